@@ -6,6 +6,16 @@
 namespace edge_slam {
 
 RayHit cast_ray(const Scene& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  static thread_local std::vector<int> all;
+  if (all.size() != scene.boxes.size()) {
+    all.resize(scene.boxes.size());
+    for (size_t b = 0; b < all.size(); ++b) all[b] = static_cast<int>(b);
+  }
+  return cast_ray(scene, o, d, all);
+}
+
+RayHit cast_ray(const Scene& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                const std::vector<int>& boxes) {
   RayHit best;
   best.t = std::numeric_limits<double>::infinity();
   double inv[3];
@@ -22,7 +32,7 @@ RayHit cast_ray(const Scene& scene, const Eigen::Vector3d& o, const Eigen::Vecto
     }
   }
   // Entering a furniture box: slab test, the entry face is the axis with the latest entry.
-  for (size_t b = 0; b < scene.boxes.size(); ++b) {
+  for (const int b : boxes) {
     const AlignedBox& box = scene.boxes[b];
     double t_near = -std::numeric_limits<double>::infinity();
     double t_far = std::numeric_limits<double>::infinity();
@@ -39,7 +49,7 @@ RayHit cast_ray(const Scene& scene, const Eigen::Vector3d& o, const Eigen::Vecto
     }
     if (entry_axis < 0 || t_near > t_far || t_near <= 0 || t_near >= best.t) continue;
     best.t = t_near;
-    best.surface = scene.box_surface(static_cast<int>(b), entry_axis, d[entry_axis] > 0 ? 0 : 1);
+    best.surface = scene.box_surface(b, entry_axis, d[entry_axis] > 0 ? 0 : 1);
   }
   return best;
 }

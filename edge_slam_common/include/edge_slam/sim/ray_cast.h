@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace edge_slam {
 
 struct RayHit {
@@ -15,6 +17,10 @@ struct RayHit {
 // First surface hit by origin + t * dir, t > 0. dir need not be unit length. An origin
 // inside a furniture box ignores that box (it only matters to the room's faces then).
 RayHit cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
+
+// Same, testing only the listed furniture boxes (e.g. those inside a view frustum).
+RayHit cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                const std::vector<int>& boxes);
 
 // Shorthand: the ray parameter of the first hit, +infinity when nothing is hit.
 double hit_depth(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
