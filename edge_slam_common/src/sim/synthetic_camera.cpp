@@ -1,5 +1,6 @@
 #include "edge_slam/sim/synthetic_camera.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -35,27 +36,34 @@ std::string yaml_float(double x) {
 }  // namespace
 
 std::string camera_yaml(const PinholeCamera& c, const std::string& title, const std::string& enc) {
+  struct Key { const char* name; std::string value; const char* comment; };
+  const Key keys[] = {
+      {"name", c.name, "identifies the calibration"},
+      {"width", std::to_string(c.width), "image width (pixels)"},
+      {"height", std::to_string(c.height), "image height (pixels)"},
+      {"fx", yaml_float(c.fx), "focal length x (pixels)"},
+      {"fy", yaml_float(c.fy), "focal length y (pixels)"},
+      {"cx", yaml_float(c.cx), "principal point x (pixels)"},
+      {"cy", yaml_float(c.cy), "principal point y (pixels)"},
+      {"k1", yaml_float(c.k1), "radial distortion (OpenCV radial-tangential model)"},
+      {"k2", yaml_float(c.k2), "radial distortion"},
+      {"p1", yaml_float(c.p1), "tangential distortion"},
+      {"p2", yaml_float(c.p2), "tangential distortion"},
+      {"k3", yaml_float(c.k3), "radial distortion"},
+      {"fps", yaml_float(c.fps), "frame rate (Hz)"},
+      {"bf", yaml_float(c.bf), "virtual stereo baseline (m) * fx, as ORB-SLAM2's TUM1.yaml"},
+      {"th_depth", yaml_float(c.bf > 0 ? c.th_depth * c.fx / c.bf : 0.0),
+       "close/far threshold in baselines (ORB-SLAM2 ThDepth): th_depth * bf / fx metres"},
+      {"depth_factor", yaml_float(c.depth_factor), "16UC1 depth value / depth_factor = metres"},
+      {"rgb_encoding", enc, "encoding of the colour image topic"},
+  };
   std::ostringstream y;
-  y << "# " << title << "\n"
-    << "camera:\n"
-    << "  name: " << c.name << "            # identifies the calibration\n"
-    << "  width: " << c.width << "            # image size (pixels)\n"
-    << "  height: " << c.height << "\n"
-    << "  fx: " << yaml_float(c.fx) << "            # focal lengths (pixels)\n"
-    << "  fy: " << yaml_float(c.fy) << "\n"
-    << "  cx: " << yaml_float(c.cx) << "            # principal point (pixels)\n"
-    << "  cy: " << yaml_float(c.cy) << "\n"
-    << "  k1: " << yaml_float(c.k1) << "            # OpenCV radial-tangential distortion\n"
-    << "  k2: " << yaml_float(c.k2) << "\n"
-    << "  p1: " << yaml_float(c.p1) << "\n"
-    << "  p2: " << yaml_float(c.p2) << "\n"
-    << "  k3: " << yaml_float(c.k3) << "\n"
-    << "  fps: " << yaml_float(c.fps) << "            # frame rate (Hz)\n"
-    << "  bf: " << yaml_float(c.bf) << "           # virtual stereo baseline (m) * fx, as ORB-SLAM2's TUM1.yaml\n"
-    << "  th_depth: " << yaml_float(c.bf > 0 ? c.th_depth * c.fx / c.bf : 0.0)
-    << "     # close/far threshold in baselines (ORB-SLAM2 ThDepth): th_depth * bf / fx metres\n"
-    << "  depth_factor: " << yaml_float(c.depth_factor) << "  # 16UC1 depth value / depth_factor = metres\n"
-    << "  rgb_encoding: " << enc << "    # colour image encoding (sensor_msgs/Image)\n";
+  y << "# " << title << "\ncamera:\n";
+  for (const Key& k : keys) {
+    std::string line = std::string("  ") + k.name + ": " + k.value;
+    line.resize(std::max<size_t>(line.size() + 2, 24), ' ');
+    y << line << "# " << k.comment << "\n";
+  }
   return y.str();
 }
 
