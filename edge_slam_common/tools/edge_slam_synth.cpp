@@ -26,7 +26,7 @@ Options:
   --out DIR     output folder (replaced if it exists)
   --seed N      scene textures, furniture layout and hand-held wobble (default 42)
   --long        24 loops (12 minutes, 10801 frames); defaults to 15 fps and JPEG colour
-                (about 1 GB instead of ~14 GB for 30 fps PNG)
+                (about 3 GB and ~30 CPU-minutes, instead of ~16 GB for 30 fps PNG)
   --frames N    stop after the first N frames
   --fps F       frame rate (default 30, or 15 with --long); the path's timing is unchanged
   --jpg / --png colour image format (default PNG, or JPEG quality 95 with --long)
