@@ -1,6 +1,6 @@
-// Room layout: 8 x 6 x 3 m. Furniture sits against the walls (never within ~2.9 m of the x
-// centre line or ~2.1 m of the y centre line) so the camera's loop around the middle stays
-// clear of it at >= ~1 m. The seed jitters furniture positions and paints every texture.
+// Room layout: 8 x 6 x 3 m. Furniture sits against the walls (each box has |x| >= 3.05 or
+// |y| >= 2.2 everywhere) so the camera's loop around the middle stays >= 0.8 m clear of it.
+// The seed jitters furniture positions and paints every texture.
 #include "edge_slam/sim/scene.h"
 
 #include "edge_slam/sim/random.h"

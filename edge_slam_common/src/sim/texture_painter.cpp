@@ -248,7 +248,7 @@ cv::Mat paint_surface(SurfaceStyle style, double width_m, double height_m, doubl
       draw_tiles(tiles, rng, rng.uniform(0.3, 0.6) * tx, hue);
       cv::addWeighted(img, 0.35, tiles, 0.65, 0, img);
       scatter_shapes(img, rng, tx, 45, 0.03, 0.5, hue + 0.5);
-      // Rugs: large rectangles with their own shapes and fringe of stripes.
+      // Rugs: large framed rectangles with their own shapes and glyph rows.
       for (int r = 0; r < 2; ++r) {
         const double w = rng.uniform(1.2, 2.2) * tx, h = rng.uniform(0.9, 1.6) * tx;
         draw_poster(img, rng, rng.uniform(0, size.width - w), rng.uniform(0, size.height - h), w, h, tx,

@@ -72,7 +72,7 @@ void render_all(const fs::path& dir, const SequenceOptions& o, const ProgressFn&
   using Clock = std::chrono::steady_clock;
   fs::create_directories(dir / "rgb");
   fs::create_directories(dir / "depth");
-  const Scene scene = Scene::build(o.seed);
+  const Scene scene = Scene::build(o.seed, o.texels_per_m);
   const Trajectory trajectory(o.seed, o.trajectory);
   const PinholeCamera camera = synthetic_room_camera(o.fps);
   RenderOptions render_options;
@@ -134,8 +134,12 @@ SequenceReport write_tum_sequence(const std::string& out_dir, const SequenceOpti
   fs::path out = fs::path(out_dir).lexically_normal();
   if (out.filename().empty()) out = out.parent_path();  // "dir/" -> "dir"
   const fs::path tmp = out.string() + ".tmp";
-  SequenceReport report;
   std::error_code ec;
+  // Only ever replace an earlier output of this writer, never an arbitrary folder or file.
+  if (fs::exists(out, ec) && !(fs::is_directory(out) && fs::exists(out / "rgb.txt") && fs::exists(out / "camera.yaml")))
+    throw std::runtime_error("refusing to replace " + out.string() +
+                             ": it exists and is not a sequence folder written by edge_slam_synth");
+  SequenceReport report;
   fs::remove_all(tmp, ec);
   try {
     render_all(tmp, o, progress, report);

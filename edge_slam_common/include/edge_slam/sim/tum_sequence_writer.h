@@ -19,6 +19,7 @@ struct SequenceOptions {
   bool sensor_noise = true;
   double first_stamp = 1000000000.0; // seconds; frame i is stamped first_stamp + i / fps
   int supersample = 2;
+  double texels_per_m = 256;         // texture resolution (tests use less to run fast)
 
   // The --long variant: 24 loops (12 minutes) at 15 fps with JPEG colour.
   static SequenceOptions long_variant(uint64_t seed);
@@ -34,7 +35,8 @@ struct SequenceReport {
 using ProgressFn = std::function<void(int, int)>;
 
 // Throws std::runtime_error (naming the path) if anything cannot be written; the partial
-// <out>.tmp is removed then. An existing <out> is replaced only after success.
+// <out>.tmp is removed then. An existing <out> is replaced only after success, and only if it
+// looks like an earlier output (a folder with rgb.txt and camera.yaml); otherwise it throws.
 SequenceReport write_tum_sequence(const std::string& out_dir, const SequenceOptions& options,
                                   const ProgressFn& progress = nullptr);
 
