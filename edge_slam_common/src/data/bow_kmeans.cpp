@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 
+#include "edge_slam/data/bow_popcount_dispatch.h"
 #include "edge_slam/feature/descriptor_distance.h"
 
 namespace edge_slam {
@@ -57,43 +58,54 @@ class BitVoteCounter {
 
 const uint8_t* row_at(const uint8_t* rows, size_t i) { return rows + i * kDescriptorBytes; }
 
+// Lowers closest_sq[i] to the squared distance to `seed` where that is closer; returns the sum.
+EDGE_SLAM_POPCNT_CLONES
+uint64_t update_closest_squared(const uint8_t* rows, size_t n, const uint8_t* seed, std::vector<uint32_t>& closest_sq) {
+  uint64_t total = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t d = static_cast<uint32_t>(descriptor_distance(row_at(rows, i), seed));
+    if (d * d < closest_sq[i]) closest_sq[i] = d * d;
+    total += closest_sq[i];
+  }
+  return total;
+}
+
 // k-means++: each next seed is drawn with probability proportional to its squared distance to
 // the closest seed so far. Stops early when every row coincides with a seed.
 std::vector<size_t> seed_kmeanspp(const uint8_t* rows, size_t n, int k, std::mt19937_64& rng) {
   std::vector<size_t> seeds{static_cast<size_t>(rng() % n)};
-  std::vector<uint32_t> closest_sq(n);
-  uint64_t total = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const uint32_t d = descriptor_distance(row_at(rows, i), row_at(rows, seeds[0]));
-    closest_sq[i] = d * d;
-    total += closest_sq[i];
-  }
+  std::vector<uint32_t> closest_sq(n, std::numeric_limits<uint32_t>::max());
+  uint64_t total = update_closest_squared(rows, n, row_at(rows, seeds[0]), closest_sq);
   while (seeds.size() < static_cast<size_t>(k) && total > 0) {
     uint64_t target = rng() % total;
     size_t pick = 0;
     while (target >= closest_sq[pick]) target -= closest_sq[pick++];
     seeds.push_back(pick);
-    total = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t d = descriptor_distance(row_at(rows, i), row_at(rows, pick));
-      if (d * d < closest_sq[i]) closest_sq[i] = d * d;
-      total += closest_sq[i];
-    }
+    total = update_closest_squared(rows, n, row_at(rows, pick), closest_sq);
   }
   return seeds;
 }
 
-uint32_t nearest(const uint8_t* row, const std::vector<uint8_t>& centroids, size_t count) {
-  uint32_t best = 0;
-  int best_d = std::numeric_limits<int>::max();
-  for (size_t c = 0; c < count; ++c) {
-    const int d = descriptor_distance(row, centroids.data() + c * kDescriptorBytes);
-    if (d < best_d) {
-      best_d = d;
-      best = static_cast<uint32_t>(c);
+// Assigns every row to its nearest centroid (first one on ties); returns whether any changed.
+EDGE_SLAM_POPCNT_CLONES
+bool assign_nearest(const uint8_t* rows, size_t n, const std::vector<uint8_t>& centroids, size_t count,
+                    std::vector<uint32_t>& assignment) {
+  bool changed = false;
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* row = row_at(rows, i);
+    uint32_t best = 0;
+    int best_d = std::numeric_limits<int>::max();
+    for (size_t c = 0; c < count; ++c) {
+      const int d = descriptor_distance(row, centroids.data() + c * kDescriptorBytes);
+      if (d < best_d) {
+        best_d = d;
+        best = static_cast<uint32_t>(c);
+      }
     }
+    changed |= best != assignment[i];
+    assignment[i] = best;
   }
-  return best;
+  return changed;
 }
 
 }  // namespace
@@ -119,12 +131,7 @@ BinaryClusters cluster_binary_descriptors(const uint8_t* rows, size_t n, int k, 
   std::vector<uint32_t> assignment(n, std::numeric_limits<uint32_t>::max());
   std::vector<BitVoteCounter> votes(count);
   for (int iteration = 0;; ++iteration) {
-    bool changed = false;
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t c = nearest(row_at(rows, i), centroids, count);
-      changed |= c != assignment[i];
-      assignment[i] = c;
-    }
+    const bool changed = assign_nearest(rows, n, centroids, count, assignment);
     if (!changed || iteration + 1 >= max_iterations) break;
     std::fill(votes.begin(), votes.end(), BitVoteCounter());
     for (size_t i = 0; i < n; ++i) votes[assignment[i]].add(row_at(rows, i));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "edge_slam/data/bow_popcount_dispatch.h"
 #include "edge_slam/feature/descriptor_distance.h"
 
 namespace edge_slam {
@@ -17,6 +18,7 @@ const uint8_t* BowVocabulary::node_descriptor(NodeId n) const {
   return descriptors_.data() + static_cast<size_t>(n) * kDescriptorBytes;
 }
 
+EDGE_SLAM_POPCNT_CLONES
 NodeId BowVocabulary::descend(const uint8_t* descriptor, int ancestor_depth, NodeId* ancestor) const {
   NodeId node = 0;
   int depth = 0;
