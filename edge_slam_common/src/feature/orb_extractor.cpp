@@ -1,0 +1,86 @@
+#include "edge_slam/feature/orb_extractor.h"
+
+#include <opencv2/imgproc.hpp>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "edge_slam/feature/descriptor_distance.h"
+#include "edge_slam/feature/fast_grid_detector.h"
+#include "edge_slam/feature/image_pyramid.h"
+#include "edge_slam/feature/intensity_centroid.h"
+#include "edge_slam/feature/orb_patch.h"
+#include "edge_slam/feature/quadtree_distribution.h"
+#include "edge_slam/feature/rotated_brief.h"
+
+namespace edge_slam {
+namespace {
+
+// Smoothing before the binary tests; 7x7 with sigma 2 as in the ORB paper's setup.
+cv::Mat smooth_for_descriptor(const cv::Mat& level_image) {
+  cv::Mat smoothed;
+  cv::GaussianBlur(level_image, smoothed, cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+  return smoothed;
+}
+
+}  // namespace
+
+OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
+  validate_orb_params(params_);
+  scales_ = make_pyramid_scales(params_.scale_factor, params_.num_levels);
+  features_per_level_ = edge_slam::features_per_level(params_.num_features, params_.scale_factor, params_.num_levels);
+  disc_half_widths_ = disc_half_widths(kOrbPatchRadius);
+}
+
+void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
+  keypoints.clear();
+  descriptors = cv::Mat(0, kDescriptorBytes, CV_8U);
+  if (gray.empty()) return;
+  if (gray.type() != CV_8UC1)
+    throw std::invalid_argument("OrbExtractor::extract: expected a CV_8UC1 image, got type " +
+                                std::to_string(gray.type()));
+
+  const std::vector<cv::Mat> pyramid = build_image_pyramid(gray, scales_.inv_scale);
+  FastGridParams fast;
+  fast.cell_size = kOrbFastCellSize;
+  fast.border = kOrbEdgeBorder;
+  fast.ini_threshold = params_.ini_fast_threshold;
+  fast.min_threshold = params_.min_fast_threshold;
+
+  std::vector<uint8_t> descriptor_bytes;
+  for (int level = 0; level < params_.num_levels; ++level) {
+    const cv::Mat& image = pyramid[level];
+    if (image.empty() || features_per_level_[level] == 0) continue;
+    const cv::Rect area = fast_detection_area(image.size(), kOrbEdgeBorder);
+    if (area.empty()) continue;
+
+    const std::vector<cv::KeyPoint> level_keypoints =
+        distribute_quadtree(detect_fast_in_grid(image, fast), cv::Rect2f(area), features_per_level_[level]);
+    if (level_keypoints.empty()) continue;
+
+    const cv::Mat smoothed = smooth_for_descriptor(image);
+    // Level pixel centres map to full resolution through the actual (rounded) level size.
+    const float to_full_x = static_cast<float>(gray.cols) / image.cols;
+    const float to_full_y = static_cast<float>(gray.rows) / image.rows;
+    const size_t first_byte = descriptor_bytes.size();
+    descriptor_bytes.resize(first_byte + level_keypoints.size() * kDescriptorBytes);
+    uint8_t* out = descriptor_bytes.data() + first_byte;
+    for (cv::KeyPoint kp : level_keypoints) {
+      const int x = cvRound(kp.pt.x);
+      const int y = cvRound(kp.pt.y);
+      kp.angle = intensity_centroid_angle(image, x, y, disc_half_widths_);
+      compute_rotated_brief(smoothed, x, y, kp.angle, out);
+      out += kDescriptorBytes;
+      kp.octave = level;
+      kp.size = kOrbPatchSize * scales_.scale[level];
+      kp.pt.x = (kp.pt.x + 0.5f) * to_full_x - 0.5f;
+      kp.pt.y = (kp.pt.y + 0.5f) * to_full_y - 0.5f;
+      keypoints.push_back(kp);
+    }
+  }
+  if (keypoints.empty()) return;
+  descriptors = cv::Mat(static_cast<int>(keypoints.size()), kDescriptorBytes, CV_8U);
+  std::memcpy(descriptors.data, descriptor_bytes.data(), descriptor_bytes.size());
+}
+
+}  // namespace edge_slam

@@ -1,0 +1,94 @@
+#include "reprojection_cost.h"
+
+#include <ceres/autodiff_cost_function.h>
+
+#include <cmath>
+#include <limits>
+
+namespace edge_slam {
+namespace optimize_detail {
+namespace {
+
+// Transforms the world point into the camera and projects it; false when it is not in front.
+template <typename T>
+bool project_point(const PinholeCamera& cam, const T* q_xyzw, const T* t, const T* X,
+                   T* u, T* v, T* z) {
+  const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
+  const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tc(t);
+  const Eigen::Map<const Eigen::Matrix<T, 3, 1>> Xw(X);
+  const Eigen::Matrix<T, 3, 1> Xc = q * Xw + tc;
+  if (!(Xc.z() > T(kMinDepth))) return false;
+  const T inv_z = T(1.0) / Xc.z();
+  *u = T(cam.fx) * Xc.x() * inv_z + T(cam.cx);
+  *v = T(cam.fy) * Xc.y() * inv_z + T(cam.cy);
+  *z = Xc.z();
+  return true;
+}
+
+struct MonoResidual {
+  PinholeCamera cam;
+  Eigen::Vector2d pixel;
+  double sqrt_info;
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* X, T* r) const {
+    T u, v, z;
+    if (!project_point(cam, q, t, X, &u, &v, &z)) return false;
+    r[0] = T(sqrt_info) * (T(pixel.x()) - u);
+    r[1] = T(sqrt_info) * (T(pixel.y()) - v);
+    return true;
+  }
+};
+
+struct StereoResidual {
+  PinholeCamera cam;
+  Eigen::Vector3d measured;  // u, v, u_right
+  double sqrt_info;
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* X, T* r) const {
+    T u, v, z;
+    if (!project_point(cam, q, t, X, &u, &v, &z)) return false;
+    const T u_right = u - T(cam.bf) / z;
+    r[0] = T(sqrt_info) * (T(measured.x()) - u);
+    r[1] = T(sqrt_info) * (T(measured.y()) - v);
+    r[2] = T(sqrt_info) * (T(measured.z()) - u_right);
+    return true;
+  }
+};
+
+}  // namespace
+
+ceres::CostFunction* make_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m) {
+  const double sqrt_info = std::sqrt(m.inv_sigma2);
+  if (m.is_stereo()) {
+    return new ceres::AutoDiffCostFunction<StereoResidual, 3, 4, 3, 3>(new StereoResidual{
+        cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info});
+  }
+  return new ceres::AutoDiffCostFunction<MonoResidual, 2, 4, 3, 3>(
+      new MonoResidual{cam, m.pixel, sqrt_info});
+}
+
+ReprojectionCheck evaluate_reprojection(const PinholeCamera& cam, const PixelMeasurement& m,
+                                        const Eigen::Quaterniond& q_cw, const Eigen::Vector3d& t_cw,
+                                        const Eigen::Vector3d& point_world) {
+  ReprojectionCheck check;
+  const Eigen::Vector3d Xc = q_cw * point_world + t_cw;
+  check.depth = Xc.z();
+  if (!(Xc.z() > kMinDepth)) {
+    check.chi2 = std::numeric_limits<double>::infinity();
+    return check;
+  }
+  const Eigen::Vector2d uv = cam.project(Xc);
+  double e2 = (m.pixel - uv).squaredNorm();
+  if (m.is_stereo()) {
+    const double du = m.right_x - (uv.x() - cam.bf / Xc.z());
+    e2 += du * du;
+  }
+  check.chi2 = m.inv_sigma2 * e2;
+  if (!std::isfinite(check.chi2)) check.chi2 = std::numeric_limits<double>::infinity();
+  return check;
+}
+
+}  // namespace optimize_detail
+}  // namespace edge_slam

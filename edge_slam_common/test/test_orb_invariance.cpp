@@ -1,0 +1,113 @@
+// Rotated and rescaled copies of an image give descriptors that still match the original
+// keypoints at the geometrically right places.
+#include <gtest/gtest.h>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "edge_slam/feature/orb_extractor.h"
+#include "edge_slam/feature/synthetic_texture.h"
+
+using namespace edge_slam;
+
+namespace {
+
+struct MatchScore {
+  int comparable = 0;  // keypoints of the original whose true position lies well inside the other image
+  int matched = 0;     // of those, matched by descriptor (ratio test) ...
+  int correct = 0;     // ... to a keypoint near the true position
+  double correct_fraction() const { return comparable ? static_cast<double>(correct) / comparable : 0.0; }
+  double precision() const { return matched ? static_cast<double>(correct) / matched : 0.0; }
+};
+
+// `to_other` (2x3, CV_64F) maps original pixel coordinates into the transformed image.
+MatchScore match_under_transform(const cv::Mat& original, const cv::Mat& transformed, const cv::Mat& to_other) {
+  const OrbExtractor extractor;
+  std::vector<cv::KeyPoint> kp_a, kp_b;
+  cv::Mat desc_a, desc_b;
+  extractor.extract(original, kp_a, desc_a);
+  extractor.extract(transformed, kp_b, desc_b);
+
+  cv::BFMatcher matcher(cv::NORM_HAMMING);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(desc_a, desc_b, knn, 2);
+
+  MatchScore score;
+  constexpr double kMargin = 20.0;     // the other image must hold the whole patch
+  constexpr double kTolerance = 4.0;   // pixels, in the transformed image
+  for (size_t i = 0; i < kp_a.size(); ++i) {
+    const cv::Point2f p = kp_a[i].pt;
+    const cv::Point2d truth(to_other.at<double>(0, 0) * p.x + to_other.at<double>(0, 1) * p.y + to_other.at<double>(0, 2),
+                            to_other.at<double>(1, 0) * p.x + to_other.at<double>(1, 1) * p.y + to_other.at<double>(1, 2));
+    if (truth.x < kMargin || truth.y < kMargin || truth.x > transformed.cols - kMargin ||
+        truth.y > transformed.rows - kMargin)
+      continue;
+    ++score.comparable;
+    if (knn[i].size() < 2 || knn[i][0].distance >= 0.8f * knn[i][1].distance) continue;
+    ++score.matched;
+    const cv::Point2f q = kp_b[knn[i][0].trainIdx].pt;
+    if (std::hypot(q.x - truth.x, q.y - truth.y) < kTolerance * extractor.scale_factors()[kp_a[i].octave]) ++score.correct;
+  }
+  return score;
+}
+
+MatchScore rotation_score(double degrees) {
+  const cv::Mat image = make_synthetic_texture(cv::Size(640, 480), 11);
+  const cv::Mat rotation = cv::getRotationMatrix2D(cv::Point2f(319.5f, 239.5f), degrees, 1.0);
+  cv::Mat rotated;
+  cv::warpAffine(image, rotated, rotation, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+  return match_under_transform(image, rotated, rotation);
+}
+
+MatchScore downscale_score(double factor) {
+  const cv::Mat image = make_synthetic_texture(cv::Size(640, 480), 12);
+  cv::Mat smaller;
+  cv::resize(image, smaller, cv::Size(), 1.0 / factor, 1.0 / factor, cv::INTER_AREA);
+  // Pixel centres: x_small = (x + 0.5) * small_cols / cols - 0.5.
+  const double sx = static_cast<double>(smaller.cols) / image.cols;
+  const double sy = static_cast<double>(smaller.rows) / image.rows;
+  const cv::Mat to_small = (cv::Mat_<double>(2, 3) << sx, 0, 0.5 * sx - 0.5, 0, sy, 0.5 * sy - 0.5);
+  return match_under_transform(image, smaller, to_small);
+}
+
+void report(const char* what, const MatchScore& s) {
+  std::printf("%-14s comparable %4d  matched %4d  correct %4d  correct/comparable %.2f  precision %.2f\n", what,
+              s.comparable, s.matched, s.correct, s.correct_fraction(), s.precision());
+}
+
+}  // namespace
+
+TEST(OrbInvariance, Rotation30) {
+  const MatchScore s = rotation_score(30);
+  report("rotation 30", s);
+  EXPECT_GT(s.correct_fraction(), 0.5);
+  EXPECT_GT(s.precision(), 0.9);
+}
+
+TEST(OrbInvariance, Rotation60) {
+  const MatchScore s = rotation_score(60);
+  report("rotation 60", s);
+  EXPECT_GT(s.correct_fraction(), 0.5);
+  EXPECT_GT(s.precision(), 0.9);
+}
+
+TEST(OrbInvariance, Rotation90) {
+  const MatchScore s = rotation_score(90);
+  report("rotation 90", s);
+  EXPECT_GT(s.correct_fraction(), 0.5);
+  EXPECT_GT(s.precision(), 0.9);
+}
+
+TEST(OrbInvariance, Scale1_2) {
+  const MatchScore s = downscale_score(1.2);
+  report("scale 1.2", s);
+  EXPECT_GT(s.correct_fraction(), 0.5);
+  EXPECT_GT(s.precision(), 0.9);
+}
+
+TEST(OrbInvariance, Scale1_44) {
+  const MatchScore s = downscale_score(1.44);
+  report("scale 1.44", s);
+  EXPECT_GT(s.correct_fraction(), 0.5);
+  EXPECT_GT(s.precision(), 0.9);
+}
