@@ -1,12 +1,12 @@
-// Feature source for vocabulary training.
-// TODO(orb): switch to edge_slam::OrbExtractor (same parameters) once it is merged, so training
-// and SLAM share one extractor; until then OpenCV's ORB with ORB-SLAM2's pyramid settings.
+// Feature source for vocabulary training: the SLAM ORB extractor with its default (ORB-SLAM2)
+// parameters, so the vocabulary's words partition exactly the descriptors tracking produces.
 #include "edge_slam/data/bow_training_features.h"
 
-#include <opencv2/features2d.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "edge_slam/feature/orb_extractor.h"
 
 namespace edge_slam {
 
@@ -15,11 +15,10 @@ cv::Mat extract_training_descriptors(const cv::Mat& gray) {
     throw std::invalid_argument("extract_training_descriptors: expected a non-empty 8-bit gray image, got type " +
                                 std::to_string(gray.type()) + " (" + std::to_string(gray.cols) + " x " +
                                 std::to_string(gray.rows) + ")");
-  // 1000 features, scale 1.2, 8 levels: ORB-SLAM2's TUM RGB-D settings.
-  thread_local cv::Ptr<cv::ORB> orb = cv::ORB::create(1000, 1.2f, 8);
+  static const OrbExtractor extractor{OrbParams()};  // extract() is const and thread-safe
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
-  orb->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+  extractor.extract(gray, keypoints, descriptors);
   return descriptors;
 }
 
