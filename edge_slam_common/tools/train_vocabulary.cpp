@@ -11,19 +11,17 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "edge_slam/data/bow_training_features.h"
+#include "edge_slam/data/bow_training_images.h"
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/vocabulary_io.h"
 
 using namespace edge_slam;
-namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -49,51 +47,10 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Frames listed in a TUM rgb.txt ("timestamp path" lines, '#' comments), relative to its folder.
-std::vector<std::string> tum_frames(const fs::path& folder) {
-  const fs::path list = folder / "rgb.txt";
-  std::ifstream in(list);
-  if (!in) throw std::runtime_error("cannot read " + list.string());
-  std::vector<std::string> frames;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::string timestamp, file;
-    if (!(fields >> timestamp >> file))
-      throw std::runtime_error(list.string() + ": line " + std::to_string(number) + ": expected 'timestamp path'");
-    frames.push_back((folder / file).string());
-  }
-  return frames;
-}
-
-std::vector<std::string> folder_images(const fs::path& folder) {
-  std::vector<std::string> frames;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    const std::string extension = lowercase(entry.path().extension().string());
-    if (entry.is_regular_file() && (extension == ".png" || extension == ".jpg" || extension == ".jpeg"))
-      frames.push_back(entry.path().string());
-  }
-  std::sort(frames.begin(), frames.end());
-  return frames;
-}
-
-std::vector<std::string> input_frames(const std::string& input) {
-  const fs::path path(input);
-  if (!fs::exists(path)) throw std::runtime_error("input '" + input + "' does not exist");
-  if (ends_with(lowercase(input), ".bag"))
-    throw std::runtime_error("input '" + input + "' is a ROS bag: use train_vocabulary_bag (catkin build)");
-  if (!fs::is_directory(path))
-    throw std::runtime_error("input '" + input + "' is not a folder (expected an image folder or a TUM sequence)");
-  std::vector<std::string> frames = fs::exists(path / "rgb.txt") ? tum_frames(path) : folder_images(path);
-  if (frames.empty()) throw std::runtime_error("input '" + input + "' contains no .png/.jpg images");
-  return frames;
-}
-
 std::vector<std::string> selected_frames(const Options& options) {
   std::vector<std::string> selected;
   for (const std::string& input : options.inputs) {
-    const std::vector<std::string> frames = input_frames(input);
+    const std::vector<std::string> frames = list_training_images(input);
     size_t kept = 0;
     for (size_t i = 0; i < frames.size(); i += static_cast<size_t>(options.every), ++kept) selected.push_back(frames[i]);
     std::printf("%s: %zu frames, using %zu\n", input.c_str(), frames.size(), kept);

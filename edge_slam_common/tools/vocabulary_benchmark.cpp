@@ -2,8 +2,13 @@
 //   vocabulary_benchmark [--k 10] [--levels 6] [--out /tmp/random_vocab.bin] [--text]
 //     builds a complete random tree (k=10, L=6: 1M words), saves it, and times loading it
 //     (and, with --text, the same through the ORBvoc.txt format) and transforming frames.
-//   vocabulary_benchmark --vocab voc.bin|ORBvoc.txt
-//     times loading an existing vocabulary and transforming random frames with it.
+//   vocabulary_benchmark --vocab voc.bin|ORBvoc.txt [--frames FOLDER [--every N]]
+//     times loading an existing vocabulary and transforming random frames with it; with
+//     --frames (image or TUM folder) also real ORB frames, and prints BoW scores between
+//     neighbouring frames vs. frames far apart (a quick place-recognition sanity check).
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -11,7 +16,10 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "edge_slam/data/bow_training_features.h"
+#include "edge_slam/data/bow_training_images.h"
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/feature/descriptor_distance.h"
 #include "edge_slam/io/vocabulary_io.h"
@@ -74,10 +82,51 @@ void benchmark_transform(const BowVocabulary& vocabulary, std::mt19937_64& rng) 
               1e3 * total_s / kFrames, kFeatures);
 }
 
+void benchmark_frames(const BowVocabulary& vocabulary, const std::string& input, int every) {
+  const std::vector<std::string> files = list_training_images(input);
+  std::vector<BowVector> bows;
+  double transform_s = 0;
+  size_t features = 0;
+  for (size_t i = 0; i < files.size(); i += static_cast<size_t>(every)) {
+    const cv::Mat gray = cv::imread(files[i], cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) throw std::runtime_error("cannot read image '" + files[i] + "'");
+    const cv::Mat descriptors = extract_training_descriptors(gray);
+    BowVector bow;
+    FeatureVector direct;
+    const auto start = Clock::now();
+    vocabulary.transform(descriptors, bow, direct, 4);
+    transform_s += seconds_since(start);
+    features += static_cast<size_t>(descriptors.rows);
+    bows.push_back(std::move(bow));
+  }
+  const size_t n = bows.size();
+  std::printf("%zu frames of %s, %.0f features each: transform %.3f ms per frame\n", n, input.c_str(),
+              static_cast<double>(features) / n, 1e3 * transform_s / n);
+  double near_sum = 0, far_sum = 0;
+  size_t near_count = 0, far_count = 0, best_is_neighbour = 0;
+  const size_t far_gap = std::max<size_t>(n / 4, 2);
+  for (size_t i = 0; i < n; ++i) {
+    double best = -1;
+    size_t best_j = i;
+    for (size_t j = 0; j < n; ++j) {
+      if (j == i) continue;
+      const double s = BowVocabulary::score(bows[i], bows[j]);
+      if (s > best) best = s, best_j = j;
+      const size_t gap = i > j ? i - j : j - i;
+      if (j > i && gap == 1) near_sum += s, ++near_count;
+      if (j > i && gap >= far_gap) far_sum += s, ++far_count;
+    }
+    best_is_neighbour += (best_j + 2 >= i && best_j <= i + 2);
+  }
+  std::printf("score of consecutive frames: mean %.3f; of frames >= %zu apart: mean %.3f\n",
+              near_count ? near_sum / near_count : 0.0, far_gap, far_count ? far_sum / far_count : 0.0);
+  std::printf("best-scoring other frame within +-2 frames: %zu of %zu\n", best_is_neighbour, n);
+}
+
 int usage(const char* message) {
   std::fprintf(stderr,
                "error: %s\nusage: vocabulary_benchmark [--k 10] [--levels 6] [--out FILE] [--text]\n"
-               "       vocabulary_benchmark --vocab FILE\n",
+               "       vocabulary_benchmark --vocab FILE [--frames FOLDER [--every N]]\n",
                message);
   return 2;
 }
@@ -88,7 +137,8 @@ int main(int argc, char** argv) {
   int k = 10, levels = 6;
   bool text = false;
   std::string out = (std::filesystem::temp_directory_path() / "edge_slam_random_vocabulary.bin").string();
-  std::string existing;
+  std::string existing, frames;
+  int every = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -96,6 +146,8 @@ int main(int argc, char** argv) {
     else if (arg == "--levels" && has_value) levels = std::atoi(argv[++i]);
     else if (arg == "--out" && has_value) out = argv[++i];
     else if (arg == "--vocab" && has_value) existing = argv[++i];
+    else if (arg == "--frames" && has_value) frames = argv[++i];
+    else if (arg == "--every" && has_value) every = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--text") text = true;
     else return usage(("unknown or incomplete argument '" + arg + "'").c_str());
   }
@@ -103,7 +155,9 @@ int main(int argc, char** argv) {
     std::mt19937_64 rng(1);
     if (!existing.empty()) {
       benchmark_load(existing, "given");
-      benchmark_transform(load_vocabulary(existing), rng);
+      const BowVocabulary vocabulary = load_vocabulary(existing);
+      benchmark_transform(vocabulary, rng);
+      if (!frames.empty()) benchmark_frames(vocabulary, frames, every);
       return 0;
     }
     if (k < 2 || levels < 1 || levels > 7) return usage("need k >= 2 and 1 <= levels <= 7");
