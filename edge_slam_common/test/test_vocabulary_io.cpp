@@ -181,22 +181,59 @@ TEST(VocabularyIo, HandWrittenOrbSlamTextVocabulary) {
   EXPECT_EQ(features, expected);
 }
 
-TEST(VocabularyIo, TextNodesInDepthFirstOrderAreRenumberedBreadthFirst) {
+TEST(VocabularyIo, DepthFirstNodeOrderIsKeptLikeOrbSlam) {
   TempDir dir;
-  // Same tree as tiny_text_vocabulary(), listed depth-first: 1, 1's leaves, 4, 4's leaves.
-  write_bytes(dir.file("dfs.txt"), "2 2 0 0\n"
-                                   "0 0 " + descriptor_text(0x00) + "0\n"
-                                   "1 1 " + descriptor_text(0x00) + "0.5\n"
-                                   "1 1 " + descriptor_text(0x0F) + "1\n"
-                                   "0 0 " + descriptor_text(0xFF) + "0\n"
-                                   "4 1 " + descriptor_text(0xFF) + "2\n"
-                                   "4 1 " + descriptor_text(0xF0) + "0\n");
+  // DBoW2 creates all children of a node together, then recurses depth-first, so node 3's
+  // children (5, 6) come before node 2's (7, 8). k=2, L=3; node 4 is a leaf at depth 2.
+  write_bytes(dir.file("dbow2.txt"), "2 3 0 0\n"
+                                     "0 0 " + descriptor_text(0x00) + "0\n"      // 1
+                                     "0 0 " + descriptor_text(0xFF) + "0\n"      // 2
+                                     "1 0 " + descriptor_text(0x00) + "0\n"      // 3
+                                     "1 1 " + descriptor_text(0x0F) + "1\n"      // 4: word 0
+                                     "3 1 " + descriptor_text(0x00) + "0.5\n"    // 5: word 1
+                                     "3 1 " + descriptor_text(0x03) + "0.25\n"   // 6: word 2
+                                     "2 1 " + descriptor_text(0xFF) + "2\n"      // 7: word 3
+                                     "2 1 " + descriptor_text(0xF0) + "0\n");    // 8: word 4
+  const BowVocabulary v = load_vocabulary(dir.file("dbow2.txt"));
+  ASSERT_EQ(v.size(), 5u);
+  const std::vector<NodeId> word_nodes{4, 5, 6, 7, 8};  // file node ids, words in line order
+  for (WordId w = 0; w < 5; ++w) EXPECT_EQ(v.node_of_word(w), word_nodes[w]);
+
+  const cv::Mat d = descriptor_rows({0x00, 0x0F, 0xFF, 0xF8, 0x03});
+  const std::vector<WordId> expected_words{1, 0, 3, 4, 2};
+  for (int i = 0; i < d.rows; ++i) EXPECT_EQ(v.word_of(d.ptr<uint8_t>(i)), expected_words[i]) << "row " << i;
+  BowVector bow;
+  FeatureVector features;
+  v.transform(d, bow, features, 1);
+  const BowVector expected_bow{{0, 1 / 3.75}, {1, 0.5 / 3.75}, {2, 0.25 / 3.75}, {3, 2 / 3.75}};
+  ASSERT_EQ(bow.size(), expected_bow.size());
+  for (const auto& e : expected_bow) EXPECT_DOUBLE_EQ(bow.at(e.first), e.second);
+  // Grouped at depth L - 1 = 2; the shallow leaves 4 and 7 are their own groups.
+  const FeatureVector expected_features{{3u, {0u, 4u}}, {4u, {1u}}, {7u, {2u}}};
+  EXPECT_EQ(features, expected_features);
+
+  // Saving keeps the numbering.
+  save_vocabulary_text(v, dir.file("again.txt"));
+  EXPECT_EQ(load_vocabulary(dir.file("again.txt")).to_arrays().parents, v.to_arrays().parents);
+  EXPECT_EQ(read_bytes(dir.file("again.txt")).substr(0, 8), "2 3 0 0\n");
+}
+
+TEST(VocabularyIo, InterleavedSiblingsAreRenumberedBreadthFirst) {
+  TempDir dir;
+  // Children of nodes 1 and 3 interleaved: 1, 2 (of 1), 3, 4 (of 1), 5 (of 3), 6 (of 3).
+  write_bytes(dir.file("interleaved.txt"), "2 2 0 0\n"
+                                           "0 0 " + descriptor_text(0x00) + "0\n"
+                                           "1 1 " + descriptor_text(0x00) + "0.5\n"
+                                           "0 0 " + descriptor_text(0xFF) + "0\n"
+                                           "1 1 " + descriptor_text(0x0F) + "1\n"
+                                           "3 1 " + descriptor_text(0xFF) + "2\n"
+                                           "3 1 " + descriptor_text(0xF0) + "0\n");
   write_bytes(dir.file("bfs.txt"), tiny_text_vocabulary());
-  const BowVocabulary dfs = load_vocabulary(dir.file("dfs.txt"));
+  const BowVocabulary interleaved = load_vocabulary(dir.file("interleaved.txt"));
   const BowVocabulary bfs = load_vocabulary(dir.file("bfs.txt"));
-  EXPECT_EQ(dfs.to_arrays().parents, bfs.to_arrays().parents);
-  EXPECT_EQ(dfs.to_arrays().descriptors, bfs.to_arrays().descriptors);
-  expect_same_transforms(dfs, bfs, {descriptor_rows({0x00, 0x0F, 0xFF, 0xF8, 0x3C})});
+  EXPECT_EQ(interleaved.to_arrays().parents, bfs.to_arrays().parents);
+  EXPECT_EQ(interleaved.to_arrays().descriptors, bfs.to_arrays().descriptors);
+  expect_same_transforms(interleaved, bfs, {descriptor_rows({0x00, 0x0F, 0xFF, 0xF8, 0x3C})});
 }
 
 TEST(VocabularyIo, CorruptBinaryFilesAreRejected) {

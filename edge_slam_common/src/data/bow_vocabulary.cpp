@@ -24,7 +24,7 @@ NodeId BowVocabulary::descend(const uint8_t* descriptor, int ancestor_depth, Nod
   int depth = 0;
   if (ancestor) *ancestor = 0;
   while (node_word_[node] == kNotAWord) {
-    const uint32_t end = child_begin_[node + 1];
+    const uint32_t end = child_end_[node];
     NodeId best = child_begin_[node];
     int best_distance = descriptor_distance(descriptor, &descriptors_[size_t{best} * kDescriptorBytes]);
     for (NodeId child = best + 1; child < end; ++child) {
@@ -133,44 +133,73 @@ BowTreeArrays BowVocabulary::to_arrays() const {
   return tree;
 }
 
+namespace {
+
+// Children of each node (CSR over the given numbering, children in index order).
+struct ChildLists {
+  std::vector<uint32_t> begin;  // node_count + 1 offsets into `nodes`
+  std::vector<uint32_t> nodes;
+  uint32_t count(size_t n) const { return begin[n + 1] - begin[n]; }
+};
+
+ChildLists child_lists(const std::vector<uint32_t>& parents) {
+  const size_t n = parents.size();
+  ChildLists lists;
+  lists.begin.assign(n + 1, 0);
+  for (size_t i = 1; i < n; ++i) ++lists.begin[parents[i] + 1];
+  for (size_t i = 0; i < n; ++i) lists.begin[i + 1] += lists.begin[i];
+  lists.nodes.resize(n - 1);
+  std::vector<uint32_t> fill(lists.begin.begin(), lists.begin.end() - 1);
+  for (size_t i = 1; i < n; ++i) lists.nodes[fill[parents[i]]++] = static_cast<uint32_t>(i);
+  return lists;
+}
+
+bool children_are_consecutive(const ChildLists& lists) {
+  for (size_t node = 0; node + 1 < lists.begin.size(); ++node)
+    for (uint32_t c = lists.begin[node] + 1; c < lists.begin[node + 1]; ++c)
+      if (lists.nodes[c] != lists.nodes[c - 1] + 1) return false;
+  return true;
+}
+
+// order[new id] = given id: breadth-first, which makes every node's children consecutive.
+std::vector<uint32_t> breadth_first_order(const ChildLists& lists) {
+  std::vector<uint32_t> order{0};
+  order.reserve(lists.begin.size() - 1);
+  for (size_t head = 0; head < order.size(); ++head) {
+    const uint32_t node = order[head];
+    order.insert(order.end(), lists.nodes.begin() + lists.begin[node], lists.nodes.begin() + lists.begin[node + 1]);
+  }
+  return order;
+}
+
+}  // namespace
+
 BowVocabulary BowVocabulary::from_arrays(const BowTreeArrays& tree) {
   validate_bow_tree(tree);
   const size_t n = tree.node_count();
-
-  // Children of each node in the given numbering (CSR, children in index order).
-  std::vector<uint32_t> first_child(n + 1, 0);
-  for (size_t i = 1; i < n; ++i) ++first_child[tree.parents[i] + 1];
-  for (size_t i = 0; i < n; ++i) first_child[i + 1] += first_child[i];
-  std::vector<uint32_t> children(n > 0 ? n - 1 : 0);
-  {
-    std::vector<uint32_t> fill = first_child;
-    for (size_t i = 1; i < n; ++i) children[fill[tree.parents[i]]++] = static_cast<uint32_t>(i);
+  ChildLists given = child_lists(tree.parents);
+  std::vector<uint32_t> order(n);  // order[internal id] = given id
+  for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
+  std::vector<uint32_t> internal_id = order;  // inverse of order
+  if (!children_are_consecutive(given)) {
+    order = breadth_first_order(given);
+    for (size_t i = 0; i < n; ++i) internal_id[order[i]] = static_cast<uint32_t>(i);
   }
-
-  // Breadth-first renumbering makes every node's children one contiguous block
-  // (a no-op for trees written breadth-first, like ours and ORBvoc.txt).
-  std::vector<uint32_t> order;
-  order.reserve(n);
-  order.push_back(0);
-  for (size_t head = 0; head < order.size(); ++head) {
-    const uint32_t old = order[head];
-    for (uint32_t c = first_child[old]; c < first_child[old + 1]; ++c) order.push_back(children[c]);
-  }
-  std::vector<uint32_t> new_index(n);
-  for (size_t i = 0; i < n; ++i) new_index[order[i]] = static_cast<uint32_t>(i);
 
   BowVocabulary voc;
   voc.branching_ = tree.branching;
   voc.levels_ = tree.levels;
   voc.parents_.resize(n);
-  voc.child_begin_.resize(n + 1);
+  voc.child_begin_.resize(n);
+  voc.child_end_.resize(n);
   voc.descriptors_.resize(n * kDescriptorBytes);
   voc.node_word_.assign(n, kNotAWord);
-  voc.child_begin_[0] = 1;
   for (size_t i = 0; i < n; ++i) {
     const uint32_t old = order[i];
-    voc.parents_[i] = old == 0 ? BowTreeArrays::kNoParent : new_index[tree.parents[old]];
-    voc.child_begin_[i + 1] = voc.child_begin_[i] + (first_child[old + 1] - first_child[old]);
+    voc.parents_[i] = old == 0 ? BowTreeArrays::kNoParent : internal_id[tree.parents[old]];
+    const uint32_t children = given.count(old);
+    voc.child_begin_[i] = children ? internal_id[given.nodes[given.begin[old]]] : 0;
+    voc.child_end_[i] = voc.child_begin_[i] + children;
     std::copy_n(&tree.descriptors[size_t{old} * kDescriptorBytes], kDescriptorBytes,
                 &voc.descriptors_[i * kDescriptorBytes]);
     if (tree.is_leaf[old]) {

@@ -47,8 +47,10 @@ class BowVocabulary {
   NodeId node_of_word(WordId w) const { return word_node_.at(w); }
   const uint8_t* node_descriptor(NodeId n) const;
 
-  // Flat form for file formats. from_arrays validates (std::runtime_error on inconsistency)
-  // and renumbers nodes breadth-first so that every node's children are contiguous.
+  // Flat form for file formats. from_arrays validates (std::runtime_error on inconsistency).
+  // Node numbering is kept when every node's children are consecutive (as in our files and in
+  // DBoW2/ORB-SLAM2 files, so node and word ids match ORB-SLAM2's); otherwise nodes are
+  // renumbered breadth-first. Word ids follow node order.
   BowTreeArrays to_arrays() const;
   static BowVocabulary from_arrays(const BowTreeArrays& tree);
 
@@ -62,9 +64,10 @@ class BowVocabulary {
 
   int branching_ = 0;
   int levels_ = 0;
-  // Nodes in breadth-first order; children of node n are [child_begin_[n], child_begin_[n+1]).
+  // Children of node n are the consecutive nodes [child_begin_[n], child_end_[n]).
   std::vector<uint32_t> parents_;
   std::vector<uint32_t> child_begin_;
+  std::vector<uint32_t> child_end_;
   std::vector<uint8_t> descriptors_;  // node_count() * 32
   std::vector<WordId> node_word_;     // kNotAWord for inner nodes
   std::vector<NodeId> word_node_;

@@ -3,8 +3,9 @@
 //    under a second): header "ESBOWVOC", version, k, L, node count, FNV-1a checksum, then packed
 //    little-endian arrays of parents, 32-byte descriptors, idf weights and leaf flags;
 //  - ORB-SLAM2's ORBvoc.txt text format: a line "k L scoring weighting" (only 0 0 = L1 / TF-IDF
-//    is supported), then one line per non-root node in breadth-first order:
-//    "parent_id is_leaf d0 ... d31 weight".
+//    is supported), then one line per non-root node, line i being node i (the root, node 0,
+//    is implicit): "parent_id is_leaf d0 ... d31 weight". Word ids are the leaves in line order,
+//    as in ORB-SLAM2.
 // Every load error throws std::runtime_error naming the file and what was expected.
 #pragma once
 #include <string>
