@@ -47,6 +47,12 @@ class Frame {
   const FrameFeatures& feat() const { return *features; }
 
   void compute_bow(const BowVocabulary& vocabulary);  // no-op when already computed
+  // Sets an already computed BoW (deserialisation, tests).
+  void set_bow(BowVector bow, FeatureVector fv) {
+    bow_ = std::move(bow);
+    feature_vector_ = std::move(fv);
+    has_bow_ = true;
+  }
   bool has_bow() const { return has_bow_; }
   const BowVector& bow() const { return bow_; }
   const FeatureVector& feature_vector() const { return feature_vector_; }

@@ -48,6 +48,12 @@ class KeyFrame {
 
   // --- bag of words (set once, before the keyframe is shared) ---
   void compute_bow(const BowVocabulary& vocabulary);
+  // Sets an already computed BoW (deserialisation, tests); before the keyframe is shared.
+  void set_bow(BowVector bow, FeatureVector fv) {
+    bow_ = std::move(bow);
+    feature_vector_ = std::move(fv);
+    has_bow_ = true;
+  }
   bool has_bow() const { return has_bow_; }
   const BowVector& bow() const { return bow_; }
   const FeatureVector& feature_vector() const { return feature_vector_; }
