@@ -117,12 +117,16 @@ TEST(Frame, ExtractsGridsAndUndistorts) {
   }
 
   PinholeCamera distorted = camera();
-  distorted.k1 = 0.26;
-  distorted.k2 = -0.95;
+  distorted.k1 = 0.262383;  // TUM freiburg1
+  distorted.k2 = -0.953104;
+  distorted.p1 = -0.005358;
+  distorted.p2 = 0.002628;
+  distorted.k3 = 1.163314;
   Frame g = Frame::from_rgbd(4, 1.6, color, depth, distorted, orb);
   ASSERT_GT(g.size(), 0u);
   const ImageBounds b = g.feat().bounds;
-  EXPECT_NE(b.min_x, 0.f);
+  EXPECT_GT(b.min_x, 1.f);
+  EXPECT_LT(b.max_x, 639.f);
   double moved = 0;
   for (size_t i = 0; i < g.size(); ++i)
     moved = std::max(moved, cv::norm(g.feat().keys[i].pt - g.feat().keys_un[i].pt));
