@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <unordered_map>
 
 #include "pose_parameters.h"
@@ -12,6 +13,9 @@
 namespace edge_slam {
 namespace optimize_detail {
 namespace {
+
+// Above this many free keyframes the reduced camera matrix is factorised sparsely.
+constexpr int kMaxKeyframesForDenseSchur = 150;
 
 // Stops the solver (keeping the current iterate) once the shared flag is raised.
 class AbortCallback : public ceres::IterationCallback {
@@ -129,8 +133,23 @@ BundleAdjustmentResult run_bundle_adjustment(const BundleAdjustmentProblem& prob
   const std::vector<PoseParameters> initial_poses = poses;
   const std::vector<Eigen::Vector3d> initial_points = points;
 
+  // Cost functions, losses and the manifold outlive the per-pass ceres::Problem, which only
+  // borrows them: a pass rebuilds the problem without re-creating 10^4 autodiff objects.
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs(links.size());
+  for (size_t k = 0; k < links.size(); ++k) costs[k].reset(make_reprojection_cost(cam, links[k].measurement));
+  ceres::HuberLoss huber_mono(std::sqrt(kChi2Mono)), huber_stereo(std::sqrt(kChi2Stereo));
+  ceres::EigenQuaternionManifold quaternion_manifold;
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+
+  int num_free_keyframes = 0;
+  for (bool f : kf_fixed) num_free_keyframes += f ? 0 : 1;
   ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  // The reduced camera system is small for local windows: dense beats sparse factorisation there.
+  solver_options.linear_solver_type =
+      num_free_keyframes <= kMaxKeyframesForDenseSchur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.num_threads = std::max(1, config.num_threads);
@@ -144,32 +163,44 @@ BundleAdjustmentResult run_bundle_adjustment(const BundleAdjustmentProblem& prob
         active[k] = active[k] && !is_reprojection_outlier(check(links[k]), links[k].measurement);
       }
     }
-    ceres::Problem ceres_problem;
+    ceres::Problem ceres_problem(problem_options);
     int num_residuals = 0;
     for (size_t k = 0; k < links.size(); ++k) {
       if (!active[k]) continue;
       const Link& l = links[k];
-      ceres::LossFunction* loss =
-          config.passes[pass].robust ? new ceres::HuberLoss(std::sqrt(l.measurement.chi2_threshold())) : nullptr;
-      ceres_problem.AddResidualBlock(make_reprojection_cost(cam, l.measurement), loss,
-                                     poses[l.keyframe].q, poses[l.keyframe].t, points[l.point].data());
+      ceres::LossFunction* loss = nullptr;
+      if (config.passes[pass].robust) loss = l.measurement.is_stereo() ? &huber_stereo : &huber_mono;
+      ceres_problem.AddResidualBlock(costs[k].get(), loss, poses[l.keyframe].q, poses[l.keyframe].t,
+                                     points[l.point].data());
       ++num_residuals;
     }
     if (num_residuals == 0) break;
+
+    // Explicit Schur ordering (points eliminated first) spares Ceres its independent-set search.
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    int free_in_problem = 0;
     for (size_t i = 0; i < poses.size(); ++i) {
       if (!ceres_problem.HasParameterBlock(poses[i].q)) continue;
-      ceres_problem.SetManifold(poses[i].q, new ceres::EigenQuaternionManifold);
+      ceres_problem.SetManifold(poses[i].q, &quaternion_manifold);
       if (kf_fixed[i]) {
         ceres_problem.SetParameterBlockConstant(poses[i].q);
         ceres_problem.SetParameterBlockConstant(poses[i].t);
+      } else {
+        ++free_in_problem;
       }
+      ordering->AddElementToGroup(poses[i].q, 1);
+      ordering->AddElementToGroup(poses[i].t, 1);
+    }
+    if (free_in_problem == 0) {
+      if (pass == 0) return failure(problem, "no free keyframe has a usable observation");
+      break;
     }
     for (size_t i = 0; i < points.size(); ++i) {
-      if (problem.points[i].fixed && ceres_problem.HasParameterBlock(points[i].data())) {
-        ceres_problem.SetParameterBlockConstant(points[i].data());
-      }
+      if (!ceres_problem.HasParameterBlock(points[i].data())) continue;
+      if (problem.points[i].fixed) ceres_problem.SetParameterBlockConstant(points[i].data());
+      ordering->AddElementToGroup(points[i].data(), 0);
     }
-
+    solver_options.linear_solver_ordering = ordering;
     solver_options.max_num_iterations = config.passes[pass].iterations;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &ceres_problem, &summary);
