@@ -57,7 +57,32 @@ struct StereoResidual {
   }
 };
 
+// The same residual with the world point held as a constant (pose-only optimisation).
+template <typename Residual>
+struct FixedPointResidual {
+  Residual residual;
+  Eigen::Vector3d point;
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, T* r) const {
+    const T X[3] = {T(point.x()), T(point.y()), T(point.z())};
+    return residual(q, t, X, r);
+  }
+};
+
 }  // namespace
+
+ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
+                                                      const Eigen::Vector3d& point_world) {
+  const double sqrt_info = std::sqrt(m.inv_sigma2);
+  if (m.is_stereo()) {
+    using F = FixedPointResidual<StereoResidual>;
+    return new ceres::AutoDiffCostFunction<F, 3, 4, 3>(new F{
+        StereoResidual{cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info}, point_world});
+  }
+  using F = FixedPointResidual<MonoResidual>;
+  return new ceres::AutoDiffCostFunction<F, 2, 4, 3>(new F{MonoResidual{cam, m.pixel, sqrt_info}, point_world});
+}
 
 ceres::CostFunction* make_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m) {
   const double sqrt_info = std::sqrt(m.inv_sigma2);

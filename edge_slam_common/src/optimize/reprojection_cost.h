@@ -29,6 +29,10 @@ struct PixelMeasurement {
 // the pose T_cw = (q, t). Residuals are whitened by sqrt(inv_sigma2), so their squared norm is chi2.
 ceres::CostFunction* make_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m);
 
+// Same residual over (quaternion [4], translation [3]) only, the point being a known constant.
+ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
+                                                      const Eigen::Vector3d& point_world);
+
 struct ReprojectionCheck {
   double chi2 = 0.0;
   double depth = 0.0;  // z of the point in the camera frame
