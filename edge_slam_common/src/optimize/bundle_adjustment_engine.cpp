@@ -158,6 +158,10 @@ BundleAdjustmentResult run_bundle_adjustment(const BundleAdjustmentProblem& prob
 
   BundleAdjustmentResult result;
   for (size_t pass = 0; pass < config.passes.size(); ++pass) {
+    if (pass > 0 && config.abort != nullptr && config.abort->load()) {
+      result.aborted = true;
+      break;
+    }
     if (pass > 0 && config.drop_outliers_between_passes) {
       for (size_t k = 0; k < links.size(); ++k) {
         active[k] = active[k] && !is_reprojection_outlier(check(links[k]), links[k].measurement);

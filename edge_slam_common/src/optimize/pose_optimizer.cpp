@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -86,8 +87,9 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.num_threads = 1;
 
-  for (int round = 0; round < options.rounds; ++round) {
-    const bool robust = round + 1 < options.rounds;  // last round: plain least squares
+  const int rounds = std::max(1, options.rounds);
+  for (int round = 0; round < rounds; ++round) {
+    const bool robust = round + 1 < rounds;  // last round: plain least squares
     ceres::Problem problem(problem_options);
     problem.AddParameterBlock(pose.q, 4, &quaternion_manifold);
     problem.AddParameterBlock(pose.t, 3);
