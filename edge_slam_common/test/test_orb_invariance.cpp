@@ -131,3 +131,39 @@ TEST(OrbInvariance, Scale1_44) {
   report("scale 1.44", s);
   expect_invariant(s, 0.5);
 }
+
+// Coarse-level keypoints must map back to full resolution without a systematic offset
+// (x0 = (x_level + 0.5) * scale - 0.5, not x_level * scale, which drifts by (scale - 1) / 2).
+// An exact 90-degree turn turns any such offset into a visible residual.
+TEST(OrbInvariance, CoarseLevelPositionsAreUnbiased) {
+  const cv::Mat image = make_synthetic_texture(cv::Size(640, 480), 11);
+  const cv::Mat rotation = cv::getRotationMatrix2D(cv::Point2f(319.5f, 239.5f), 90, 1.0);
+  cv::Mat rotated;
+  cv::warpAffine(image, rotated, rotation, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+  const OrbExtractor extractor;
+  std::vector<cv::KeyPoint> kp_a, kp_b;
+  cv::Mat desc_a, desc_b;
+  extractor.extract(image, kp_a, desc_a);
+  extractor.extract(rotated, kp_b, desc_b);
+
+  cv::Point2d residual_sum(0, 0);
+  int pairs = 0;
+  for (const cv::KeyPoint& a : kp_a) {
+    if (a.octave < 4) continue;
+    const cv::Point2d truth(rotation.at<double>(0, 0) * a.pt.x + rotation.at<double>(0, 1) * a.pt.y + rotation.at<double>(0, 2),
+                            rotation.at<double>(1, 0) * a.pt.x + rotation.at<double>(1, 1) * a.pt.y + rotation.at<double>(1, 2));
+    for (const cv::KeyPoint& b : kp_b) {
+      if (b.octave != a.octave) continue;
+      const cv::Point2d residual(b.pt.x - truth.x, b.pt.y - truth.y);
+      if (std::hypot(residual.x, residual.y) < extractor.scale_factors()[a.octave]) {
+        residual_sum += residual;
+        ++pairs;
+        break;
+      }
+    }
+  }
+  ASSERT_GT(pairs, 30);
+  // With the naive mapping the mean residual here would be about scale - 1 >= 1 px per axis.
+  EXPECT_LT(std::abs(residual_sum.x / pairs), 0.4);
+  EXPECT_LT(std::abs(residual_sum.y / pairs), 0.4);
+}
