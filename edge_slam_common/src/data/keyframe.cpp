@@ -34,6 +34,18 @@ void KeyFrame::set_pose(const Eigen::Isometry3d& T_cw) {
   T_cw_ = T_cw;
 }
 
+void KeyFrame::set_bad_relative_to_parent(const Eigen::Isometry3d& T_cp) {
+  {
+    std::lock_guard<std::mutex> lock(pose_mutex_);
+    T_cp_ = T_cp;
+  }
+  bad_ = true;
+}
+Eigen::Isometry3d KeyFrame::T_cp() const {
+  std::lock_guard<std::mutex> lock(pose_mutex_);
+  return T_cp_;
+}
+
 void KeyFrame::compute_bow(const BowVocabulary& vocabulary) {
   if (has_bow_) return;
   vocabulary.transform(features_->descriptors, bow_, feature_vector_, 4);

@@ -95,6 +95,10 @@ class KeyFrame {
 
   bool is_bad() const { return bad_; }
   void set_bad() { bad_ = true; }
+  // Culling: marks the keyframe bad and keeps its pose relative to its (new) spanning-tree
+  // parent, T_cp = T_cw * T_pw^-1, so frames that referred to it can still be placed later.
+  void set_bad_relative_to_parent(const Eigen::Isometry3d& T_cp);
+  Eigen::Isometry3d T_cp() const;
 
   std::vector<size_t> features_in_area(float x, float y, float r, int min_level = -1,
                                        int max_level = -1) const {
@@ -112,6 +116,7 @@ class KeyFrame {
 
   mutable std::mutex pose_mutex_;
   Eigen::Isometry3d T_cw_;
+  Eigen::Isometry3d T_cp_ = Eigen::Isometry3d::Identity();
 
   BowVector bow_;
   FeatureVector feature_vector_;

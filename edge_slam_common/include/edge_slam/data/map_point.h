@@ -55,6 +55,10 @@ class MapPoint {
 
   bool is_bad() const { return bad_; }
   void set_bad() { bad_ = true; }
+  // Id of the point that replaced this one after a fusion (kNoId if none), so holders of
+  // a stale pointer can follow it.
+  uint32_t replaced_by() const { return replaced_by_; }
+  void set_replaced_by(uint32_t id) { replaced_by_ = id; }
 
   // Recompute from the observing keyframes held in `map` (missing ones are skipped):
   // the descriptor with least median distance to the others, and the mean viewing normal
@@ -76,6 +80,7 @@ class MapPoint {
 
   std::atomic<int> visible_{1}, found_{1};
   std::atomic<bool> bad_{false};
+  std::atomic<uint32_t> replaced_by_{0xffffffffu};
 };
 
 }  // namespace edge_slam
