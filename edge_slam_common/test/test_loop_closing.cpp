@@ -104,7 +104,7 @@ TEST(LoopClosing, DetectsAndCorrectsInjectedDriftOnARing) {
     if (loop.process_keyframe(ring.kfs[i]) && closed_at < 0) closed_at = i;
   }
   ASSERT_EQ(loop.loops_closed(), 1);
-  EXPECT_GE(closed_at, 36 + params.detector.consistency);
+  EXPECT_GE(closed_at, 30);  // duplicates start once the view overlaps the first keyframe's again
   const LoopEvent e = loop.loops()[0];
   EXPECT_LT(e.loop_kf_id, 8u);
   EXPECT_GE(e.matches, 40);
