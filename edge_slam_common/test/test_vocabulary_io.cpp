@@ -320,3 +320,31 @@ TEST(VocabularyIo, UnreadableOrForeignFilesAreRejected) {
   expect_load_error(dir.file("image.png"), "unknown format");
   EXPECT_THROW(save_vocabulary_binary(BowVocabulary(), dir.file("empty.bin")), std::runtime_error);
 }
+
+TEST(VocabularyIo, EveryTruncationOrByteFlipFailsCleanlyOrLoadsAValidTree) {
+  TempDir dir;
+  save_vocabulary_text(small_trained_vocabulary(clustered_images(4, 60, 6)), dir.file("good.txt"));
+  save_vocabulary_binary(load_vocabulary(dir.file("good.txt")), dir.file("good.bin"));
+  const cv::Mat probe = clustered_images(1, 50, 7)[0];
+  for (const std::string name : {"good.txt", "good.bin"}) {
+    const std::string good = read_bytes(dir.file(name));
+    std::mt19937 rng(8);
+    for (size_t cut = 0; cut < good.size(); cut += 1 + rng() % 499) {
+      std::string damaged = good.substr(0, cut);
+      if (rng() % 2) {  // also flip a byte somewhere before the cut
+        if (cut > 0) damaged[rng() % cut] ^= static_cast<char>(1 + rng() % 255);
+      }
+      write_bytes(dir.file("damaged"), damaged);
+      try {
+        const BowVocabulary v = load_vocabulary(dir.file("damaged"));
+        // Whatever loaded must be a usable tree.
+        BowVector bow;
+        FeatureVector features;
+        v.transform(probe, bow, features, 2);
+        for (const auto& e : bow) EXPECT_LT(e.first, v.size());
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(dir.file("damaged")), std::string::npos) << e.what();
+      }
+    }
+  }
+}
