@@ -163,3 +163,29 @@ TEST(PoseOptimizer, PointsBehindCameraAreOutliers) {
   EXPECT_TRUE(is_outlier[0]);
   EXPECT_EQ(r.inliers, 39);
 }
+
+TEST(PoseOptimizer, NoisyPixelsStayAccurate) {
+  Scene s = make_scene(300, 0.2, 13);
+  std::mt19937 rng(99);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  for (PoseObservation& o : s.obs) {
+    o.pixel += Eigen::Vector2d(noise(rng), noise(rng));
+    if (o.right_x >= 0) o.right_x += noise(rng);
+  }
+  Eigen::Isometry3d T_cw = s.T_cw_true;
+  T_cw.translation() += Eigen::Vector3d(-0.04, 0.02, 0.02);
+  std::vector<bool> is_outlier(s.obs.size(), false);
+  const PoseOptimizationResult r = optimize_pose(s.cam, s.obs, T_cw, is_outlier);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_LT(translation_error(T_cw, s.T_cw_true), 0.005);
+  EXPECT_LT(rotation_error_deg(T_cw, s.T_cw_true), 0.1);
+  int caught = 0, planted = 0;
+  for (size_t i = 0; i < s.obs.size(); ++i) {
+    planted += s.planted_outlier[i];
+    caught += s.planted_outlier[i] && is_outlier[i];
+  }
+  EXPECT_GE(caught, 0.9 * planted);
+  std::printf("pose-only, 0.5 px noise: t_err %.2e m, r_err %.3f deg, %d inliers, caught %d/%d\n",
+              translation_error(T_cw, s.T_cw_true), rotation_error_deg(T_cw, s.T_cw_true), r.inliers,
+              caught, planted);
+}

@@ -2,6 +2,8 @@
 // keypoints at the geometrically right places.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -12,12 +14,19 @@ using namespace edge_slam;
 
 namespace {
 
+// Keypoint selection (one per quadtree cell, cells fixed to the image axes) is not itself
+// rotation invariant, so not every keypoint has a counterpart; the descriptor can only be
+// judged on those that do ("repeated").
 struct MatchScore {
-  int comparable = 0;  // keypoints of the original whose true position lies well inside the other image
-  int matched = 0;     // of those, matched by descriptor (ratio test) ...
-  int correct = 0;     // ... to a keypoint near the true position
-  double correct_fraction() const { return comparable ? static_cast<double>(correct) / comparable : 0.0; }
-  double precision() const { return matched ? static_cast<double>(correct) / matched : 0.0; }
+  int comparable = 0;         // keypoints of the original whose true position lies well inside the other image
+  int repeated = 0;           // of those, with a keypoint detected near the true position
+  int matched = 0;            // comparable keypoints matched by descriptor (ratio test) ...
+  int correct = 0;            // ... to a keypoint near the true position
+  int correct_repeated = 0;   // correct matches among the repeated keypoints
+  static double ratio(int a, int b) { return b ? static_cast<double>(a) / b : 0.0; }
+  double correct_fraction() const { return ratio(correct, comparable); }
+  double correct_of_repeated() const { return ratio(correct_repeated, repeated); }
+  double precision() const { return ratio(correct, matched); }
 };
 
 // `to_other` (2x3, CV_64F) maps original pixel coordinates into the transformed image.
@@ -43,10 +52,16 @@ MatchScore match_under_transform(const cv::Mat& original, const cv::Mat& transfo
         truth.y > transformed.rows - kMargin)
       continue;
     ++score.comparable;
+    const double tolerance = kTolerance * extractor.scale_factors()[kp_a[i].octave];
+    auto near_truth = [&](const cv::KeyPoint& kp) { return std::hypot(kp.pt.x - truth.x, kp.pt.y - truth.y) < tolerance; };
+    const bool repeated = std::any_of(kp_b.begin(), kp_b.end(), near_truth);
+    score.repeated += repeated;
     if (knn[i].size() < 2 || knn[i][0].distance >= 0.8f * knn[i][1].distance) continue;
     ++score.matched;
-    const cv::Point2f q = kp_b[knn[i][0].trainIdx].pt;
-    if (std::hypot(q.x - truth.x, q.y - truth.y) < kTolerance * extractor.scale_factors()[kp_a[i].octave]) ++score.correct;
+    if (near_truth(kp_b[knn[i][0].trainIdx])) {
+      ++score.correct;
+      score.correct_repeated += repeated;
+    }
   }
   return score;
 }
@@ -71,8 +86,18 @@ MatchScore downscale_score(double factor) {
 }
 
 void report(const char* what, const MatchScore& s) {
-  std::printf("%-14s comparable %4d  matched %4d  correct %4d  correct/comparable %.2f  precision %.2f\n", what,
-              s.comparable, s.matched, s.correct, s.correct_fraction(), s.precision());
+  std::printf("%-12s comparable %4d repeated %4d matched %4d correct %4d | correct/comparable %.2f "
+              "correct/repeated %.2f precision %.2f\n",
+              what, s.comparable, s.repeated, s.matched, s.correct, s.correct_fraction(), s.correct_of_repeated(),
+              s.precision());
+}
+
+// Measured with the committed pattern: correct/comparable 0.51-0.55 under rotation, 0.60-0.77
+// under scale; correct/repeated 0.6-0.8; precision 0.97-0.99. Bounds leave some margin.
+void expect_invariant(const MatchScore& s, double min_correct_fraction) {
+  EXPECT_GT(s.correct_of_repeated(), 0.5);
+  EXPECT_GT(s.correct_fraction(), min_correct_fraction);
+  EXPECT_GT(s.precision(), 0.93);
 }
 
 }  // namespace
@@ -80,34 +105,65 @@ void report(const char* what, const MatchScore& s) {
 TEST(OrbInvariance, Rotation30) {
   const MatchScore s = rotation_score(30);
   report("rotation 30", s);
-  EXPECT_GT(s.correct_fraction(), 0.5);
-  EXPECT_GT(s.precision(), 0.9);
+  expect_invariant(s, 0.45);
 }
 
 TEST(OrbInvariance, Rotation60) {
   const MatchScore s = rotation_score(60);
   report("rotation 60", s);
-  EXPECT_GT(s.correct_fraction(), 0.5);
-  EXPECT_GT(s.precision(), 0.9);
+  expect_invariant(s, 0.45);
 }
 
 TEST(OrbInvariance, Rotation90) {
   const MatchScore s = rotation_score(90);
   report("rotation 90", s);
-  EXPECT_GT(s.correct_fraction(), 0.5);
-  EXPECT_GT(s.precision(), 0.9);
+  expect_invariant(s, 0.45);
 }
 
 TEST(OrbInvariance, Scale1_2) {
   const MatchScore s = downscale_score(1.2);
   report("scale 1.2", s);
-  EXPECT_GT(s.correct_fraction(), 0.5);
-  EXPECT_GT(s.precision(), 0.9);
+  expect_invariant(s, 0.65);
 }
 
 TEST(OrbInvariance, Scale1_44) {
   const MatchScore s = downscale_score(1.44);
   report("scale 1.44", s);
-  EXPECT_GT(s.correct_fraction(), 0.5);
-  EXPECT_GT(s.precision(), 0.9);
+  expect_invariant(s, 0.5);
+}
+
+// Coarse-level keypoints must map back to full resolution without a systematic offset
+// (x0 = (x_level + 0.5) * scale - 0.5, not x_level * scale, which drifts by (scale - 1) / 2).
+// An exact 90-degree turn turns any such offset into a visible residual.
+TEST(OrbInvariance, CoarseLevelPositionsAreUnbiased) {
+  const cv::Mat image = make_synthetic_texture(cv::Size(640, 480), 11);
+  const cv::Mat rotation = cv::getRotationMatrix2D(cv::Point2f(319.5f, 239.5f), 90, 1.0);
+  cv::Mat rotated;
+  cv::warpAffine(image, rotated, rotation, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+  const OrbExtractor extractor;
+  std::vector<cv::KeyPoint> kp_a, kp_b;
+  cv::Mat desc_a, desc_b;
+  extractor.extract(image, kp_a, desc_a);
+  extractor.extract(rotated, kp_b, desc_b);
+
+  cv::Point2d residual_sum(0, 0);
+  int pairs = 0;
+  for (const cv::KeyPoint& a : kp_a) {
+    if (a.octave < 4) continue;
+    const cv::Point2d truth(rotation.at<double>(0, 0) * a.pt.x + rotation.at<double>(0, 1) * a.pt.y + rotation.at<double>(0, 2),
+                            rotation.at<double>(1, 0) * a.pt.x + rotation.at<double>(1, 1) * a.pt.y + rotation.at<double>(1, 2));
+    for (const cv::KeyPoint& b : kp_b) {
+      if (b.octave != a.octave) continue;
+      const cv::Point2d residual(b.pt.x - truth.x, b.pt.y - truth.y);
+      if (std::hypot(residual.x, residual.y) < extractor.scale_factors()[a.octave]) {
+        residual_sum += residual;
+        ++pairs;
+        break;
+      }
+    }
+  }
+  ASSERT_GT(pairs, 30);
+  // With the naive mapping the mean residual here would be about scale - 1 >= 1 px per axis.
+  EXPECT_LT(std::abs(residual_sum.x / pairs), 0.4);
+  EXPECT_LT(std::abs(residual_sum.y / pairs), 0.4);
 }

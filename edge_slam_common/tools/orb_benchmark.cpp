@@ -44,17 +44,51 @@ std::vector<fs::path> list_images(const fs::path& folder) {
   return images;
 }
 
+double mean_of(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
+
+// How evenly keypoints cover the frame: the fullest cell of a 4x4 grid relative to an
+// even share, and the fraction of 40x40-pixel cells that hold at least one keypoint.
+struct Coverage {
+  double fullest_over_share = 0;
+  double occupied_fraction = 0;
+};
+
+Coverage coverage_of(const std::vector<cv::KeyPoint>& keypoints, const cv::Size& size) {
+  Coverage c;
+  if (keypoints.empty()) return c;
+  std::vector<int> coarse(16, 0);
+  const int fine_cols = (size.width + 39) / 40, fine_rows = (size.height + 39) / 40;
+  std::vector<char> fine(static_cast<size_t>(fine_cols) * fine_rows, 0);
+  for (const cv::KeyPoint& kp : keypoints) {
+    const int x = std::clamp(static_cast<int>(kp.pt.x), 0, size.width - 1);
+    const int y = std::clamp(static_cast<int>(kp.pt.y), 0, size.height - 1);
+    ++coarse[(y * 4 / size.height) * 4 + x * 4 / size.width];
+    fine[(y / 40) * fine_cols + x / 40] = 1;
+  }
+  c.fullest_over_share = *std::max_element(coarse.begin(), coarse.end()) / (keypoints.size() / 16.0);
+  c.occupied_fraction = std::accumulate(fine.begin(), fine.end(), 0.0) / fine.size();
+  return c;
+}
+
 struct Stats {
   std::vector<double> ms;
-  std::vector<size_t> counts;
+  std::vector<double> counts;
+  std::vector<double> fullest_over_share;
+  std::vector<double> occupied_fraction;
+  void add(double elapsed_ms, const std::vector<cv::KeyPoint>& keypoints, const cv::Size& size) {
+    ms.push_back(elapsed_ms);
+    counts.push_back(static_cast<double>(keypoints.size()));
+    const Coverage c = coverage_of(keypoints, size);
+    fullest_over_share.push_back(c.fullest_over_share);
+    occupied_fraction.push_back(c.occupied_fraction);
+  }
   void print(const char* name) const {
     std::vector<double> sorted = ms;
     std::sort(sorted.begin(), sorted.end());
-    const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
-    const double median = sorted[sorted.size() / 2];
-    const double kps = std::accumulate(counts.begin(), counts.end(), 0.0) / counts.size();
-    std::printf("%-10s mean %7.2f ms/frame   median %7.2f ms/frame   %7.1f keypoints/frame\n", name, mean, median,
-                kps);
+    std::printf("%-8s mean %6.2f ms  median %6.2f ms  %6.1f kp/frame  fullest 4x4 cell %.2fx share  "
+                "40px cells occupied %.0f%%\n",
+                name, mean_of(ms), sorted[sorted.size() / 2], mean_of(counts), mean_of(fullest_over_share),
+                100.0 * mean_of(occupied_fraction));
   }
 };
 
@@ -99,12 +133,12 @@ int main(int argc, char** argv) {
     cv::cvtColor(color, gray, cv::COLOR_BGR2GRAY);
     // Alternate which one runs first so cache warmth does not favour either.
     auto run_ours = [&] {
-      ours_stats.ms.push_back(time_ms([&] { ours.extract(gray, keypoints, descriptors); }));
-      ours_stats.counts.push_back(keypoints.size());
+      const double elapsed = time_ms([&] { ours.extract(gray, keypoints, descriptors); });
+      ours_stats.add(elapsed, keypoints, gray.size());
     };
     auto run_opencv = [&] {
-      opencv_stats.ms.push_back(time_ms([&] { opencv->detectAndCompute(gray, cv::noArray(), keypoints, descriptors); }));
-      opencv_stats.counts.push_back(keypoints.size());
+      const double elapsed = time_ms([&] { opencv->detectAndCompute(gray, cv::noArray(), keypoints, descriptors); });
+      opencv_stats.add(elapsed, keypoints, gray.size());
     };
     if (frame++ % 2 == 0) {
       run_ours();
@@ -119,8 +153,6 @@ int main(int argc, char** argv) {
               cv::imread(images[0].string()).rows);
   ours_stats.print("ours");
   opencv_stats.print("cv::ORB");
-  const double ratio = std::accumulate(ours_stats.ms.begin(), ours_stats.ms.end(), 0.0) /
-                       std::accumulate(opencv_stats.ms.begin(), opencv_stats.ms.end(), 0.0);
-  std::printf("ours / cv::ORB time ratio (means): %.2f\n", ratio);
+  std::printf("ours / cv::ORB time ratio (means): %.2f\n", mean_of(ours_stats.ms) / mean_of(opencv_stats.ms));
   return 0;
 }

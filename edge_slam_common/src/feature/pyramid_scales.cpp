@@ -24,14 +24,19 @@ std::vector<int> features_per_level(int num_features, float scale_factor, int nu
   const double ratio = 1.0 / scale_factor;
   // First term of the geometric series whose num_levels terms sum to num_features.
   const double first = num_features * (1.0 - ratio) / (1.0 - std::pow(ratio, num_levels));
-  double wanted = first;
+  // Rounding the running total (not each term) keeps every count >= 0 and the sum exact;
+  // whatever rounding leaves over lands on the coarsest level.
+  double cumulative = 0.0;
+  double term = first;
   int assigned = 0;
   for (int level = 0; level + 1 < num_levels; ++level) {
-    counts[level] = static_cast<int>(std::lround(wanted));
-    assigned += counts[level];
-    wanted *= ratio;
+    cumulative += term;
+    const int rounded_total = std::min(static_cast<int>(std::lround(cumulative)), num_features);
+    counts[level] = rounded_total - assigned;
+    assigned = rounded_total;
+    term *= ratio;
   }
-  counts[num_levels - 1] = std::max(num_features - assigned, 0);
+  counts[num_levels - 1] = num_features - assigned;
   return counts;
 }
 

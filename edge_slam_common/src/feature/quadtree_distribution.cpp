@@ -46,28 +46,33 @@ void split_cell(const Cell& cell, const std::vector<cv::KeyPoint>& kps, std::vec
 }
 
 // Roughly square root cells tile the region, so splits halve cells along both axes evenly.
+// Fills `order` with keypoint indices grouped by root cell (a counting sort).
 std::vector<Cell> root_cells(const std::vector<cv::KeyPoint>& kps, const cv::Rect2f& region,
                              std::vector<int>& order) {
   const float w = std::max(region.width, 1.0f);
   const float h = std::max(region.height, 1.0f);
   const int cols = std::max(1, static_cast<int>(std::lround(w / h)));
   const int rows = std::max(1, static_cast<int>(std::lround(h / w)));
-  auto root_of = [&](int i) {
+  std::vector<int> root_of(kps.size());
+  std::vector<int> first_of_root(static_cast<size_t>(cols) * rows + 1, 0);
+  for (size_t i = 0; i < kps.size(); ++i) {
     const int c = std::clamp(static_cast<int>((kps[i].pt.x - region.x) * cols / w), 0, cols - 1);
     const int r = std::clamp(static_cast<int>((kps[i].pt.y - region.y) * rows / h), 0, rows - 1);
-    return r * cols + c;
-  };
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return root_of(a) < root_of(b); });
+    root_of[i] = r * cols + c;
+    ++first_of_root[root_of[i] + 1];
+  }
+  for (size_t k = 1; k < first_of_root.size(); ++k) first_of_root[k] += first_of_root[k - 1];
+  order.resize(kps.size());
+  std::vector<int> next_slot(first_of_root.begin(), first_of_root.end() - 1);
+  for (size_t i = 0; i < kps.size(); ++i) order[next_slot[root_of[i]]++] = static_cast<int>(i);
 
   std::vector<Cell> roots;
-  size_t i = 0;
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
-      const int begin = static_cast<int>(i);
-      while (i < order.size() && root_of(order[i]) == r * cols + c) ++i;
-      if (static_cast<int>(i) == begin) continue;
+      const int id = r * cols + c;
+      if (first_of_root[id] == first_of_root[id + 1]) continue;
       roots.push_back({region.x + c * w / cols, region.y + r * h / rows, region.x + (c + 1) * w / cols,
-                       region.y + (r + 1) * h / rows, begin, static_cast<int>(i)});
+                       region.y + (r + 1) * h / rows, first_of_root[id], first_of_root[id + 1]});
     }
   }
   return roots;
@@ -80,8 +85,7 @@ std::vector<cv::KeyPoint> distribute_quadtree(const std::vector<cv::KeyPoint>& k
   std::vector<cv::KeyPoint> kept;
   if (target <= 0 || kps.empty()) return kept;
 
-  std::vector<int> order(kps.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::vector<int> order;
   std::vector<Cell> cells = root_cells(kps, region, order);
 
   // Breadth-first rounds keep cells of similar size, which is what spreads the keypoints.

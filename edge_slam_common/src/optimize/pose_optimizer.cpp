@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -62,38 +63,50 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
   }
 
   PoseParameters pose = PoseParameters::from_isometry(T_cw);
-  // Ceres needs mutable blocks even for constant parameters.
-  std::vector<Eigen::Vector3d> points(obs.size());
-  for (size_t i = 0; i < obs.size(); ++i) points[i] = obs[i].point_world;
+
+  // Built once and lent to each round's problem (tracking calls this twice per frame).
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs(obs.size());
+  for (size_t i = 0; i < obs.size(); ++i) {
+    if (usable[i]) {
+      costs[i].reset(optimize_detail::make_pose_only_reprojection_cost(cam, to_measurement(obs[i]),
+                                                                       obs[i].point_world));
+    }
+  }
+  ceres::HuberLoss huber_mono(std::sqrt(optimize_detail::kChi2Mono));
+  ceres::HuberLoss huber_stereo(std::sqrt(optimize_detail::kChi2Stereo));
+  ceres::EigenQuaternionManifold quaternion_manifold;
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
 
   ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns
   solver_options.max_num_iterations = options.iterations_per_round;
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.num_threads = 1;
 
-  for (int round = 0; round < options.rounds; ++round) {
-    const bool robust = round + 1 < options.rounds;  // last round: plain least squares
-    ceres::Problem problem;
-    problem.AddParameterBlock(pose.q, 4, new ceres::EigenQuaternionManifold);
+  const int rounds = std::max(1, options.rounds);
+  for (int round = 0; round < rounds; ++round) {
+    const bool robust = round + 1 < rounds;  // last round: plain least squares
+    ceres::Problem problem(problem_options);
+    problem.AddParameterBlock(pose.q, 4, &quaternion_manifold);
     problem.AddParameterBlock(pose.t, 3);
     int num_residuals = 0;
     for (size_t i = 0; i < obs.size(); ++i) {
       if (outlier[i]) continue;
+      const PixelMeasurement m = to_measurement(obs[i]);
       // A point behind the camera cannot be evaluated by the residual: it sits out this round.
-      if (optimize_detail::evaluate_reprojection(cam, to_measurement(obs[i]), pose.quaternion(),
-                                                 pose.translation(), obs[i].point_world)
+      if (optimize_detail::evaluate_reprojection(cam, m, pose.quaternion(), pose.translation(),
+                                                 obs[i].point_world)
               .depth <= optimize_detail::kMinDepth) {
         outlier[i] = true;
         continue;
       }
-      const PixelMeasurement m = to_measurement(obs[i]);
-      ceres::LossFunction* loss =
-          robust ? new ceres::HuberLoss(std::sqrt(m.chi2_threshold())) : nullptr;
-      problem.AddResidualBlock(optimize_detail::make_reprojection_cost(cam, m), loss, pose.q,
-                               pose.t, points[i].data());
-      problem.SetParameterBlockConstant(points[i].data());
+      ceres::LossFunction* loss = nullptr;
+      if (robust) loss = m.is_stereo() ? &huber_stereo : &huber_mono;
+      problem.AddResidualBlock(costs[i].get(), loss, pose.q, pose.t);
       ++num_residuals;
     }
     if (num_residuals < options.min_observations) {

@@ -57,7 +57,55 @@ struct StereoResidual {
   }
 };
 
+// The same residual with the world point held as a constant (pose-only optimisation).
+template <typename Residual>
+struct FixedPointResidual {
+  Residual residual;
+  Eigen::Vector3d point;
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, T* r) const {
+    const T X[3] = {T(point.x()), T(point.y()), T(point.z())};
+    return residual(q, t, X, r);
+  }
+};
+
+// Monocular residual of a point known in frame 1 observed in frame 2, for the pose T_12:
+// the point is mapped by T_21 = T_12^-1 (quaternion conjugate, t_21 = -(q_21 * t_12)).
+struct InversePoseResidual {
+  MonoResidual residual;
+  Eigen::Vector3d point_in_1;
+
+  template <typename T>
+  bool operator()(const T* q_12, const T* t_12, T* r) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_12);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(t_12);
+    const Eigen::Quaternion<T> q_21 = q.conjugate();
+    const Eigen::Matrix<T, 3, 1> t_21 = -(q_21 * t);
+    const T X[3] = {T(point_in_1.x()), T(point_in_1.y()), T(point_in_1.z())};
+    return residual(q_21.coeffs().data(), t_21.data(), X, r);
+  }
+};
+
 }  // namespace
+
+ceres::CostFunction* make_inverse_pose_reprojection_cost(const PinholeCamera& cam, const Eigen::Vector2d& pixel,
+                                                         double inv_sigma2, const Eigen::Vector3d& point_in_1) {
+  return new ceres::AutoDiffCostFunction<InversePoseResidual, 2, 4, 3>(
+      new InversePoseResidual{MonoResidual{cam, pixel, std::sqrt(inv_sigma2)}, point_in_1});
+}
+
+ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
+                                                      const Eigen::Vector3d& point_world) {
+  const double sqrt_info = std::sqrt(m.inv_sigma2);
+  if (m.is_stereo()) {
+    using F = FixedPointResidual<StereoResidual>;
+    return new ceres::AutoDiffCostFunction<F, 3, 4, 3>(new F{
+        StereoResidual{cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info}, point_world});
+  }
+  using F = FixedPointResidual<MonoResidual>;
+  return new ceres::AutoDiffCostFunction<F, 2, 4, 3>(new F{MonoResidual{cam, m.pixel, sqrt_info}, point_world});
+}
 
 ceres::CostFunction* make_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m) {
   const double sqrt_info = std::sqrt(m.inv_sigma2);

@@ -14,8 +14,8 @@ struct PyramidScales {
 PyramidScales make_pyramid_scales(float scale_factor, int num_levels);
 
 // Splits num_features over the levels proportionally to each level's side length
-// (1/s^level), i.e. a geometric series summing to num_features; rounding leftovers
-// go to the coarsest level.
+// (1/s^level), i.e. a geometric series summing exactly to num_features; rounding
+// leftovers go to the coarsest level.
 std::vector<int> features_per_level(int num_features, float scale_factor, int num_levels);
 
 }  // namespace edge_slam
