@@ -181,6 +181,19 @@ TEST(VocabularyIo, HandWrittenOrbSlamTextVocabulary) {
   EXPECT_EQ(features, expected);
 }
 
+TEST(VocabularyIo, TextWithDbow2HeaderSpacingAndCrlfLineEndsLoads) {
+  TempDir dir;
+  // DBoW2 writes "k L  scoring weighting" with a double space; files edited on Windows get CRLF.
+  std::string text = tiny_text_vocabulary();
+  text.replace(0, 8, "2 2  0 0\n");
+  std::string crlf;
+  for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  write_bytes(dir.file("plain.txt"), tiny_text_vocabulary());
+  write_bytes(dir.file("crlf.txt"), crlf);
+  expect_same_transforms(load_vocabulary(dir.file("plain.txt")), load_vocabulary(dir.file("crlf.txt")),
+                         {descriptor_rows({0x00, 0x0F, 0xFF, 0xF8, 0x3C})});
+}
+
 TEST(VocabularyIo, DepthFirstNodeOrderIsKeptLikeOrbSlam) {
   TempDir dir;
   // DBoW2 creates all children of a node together, then recurses depth-first, so node 3's
