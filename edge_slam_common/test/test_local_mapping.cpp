@@ -110,9 +110,9 @@ TEST(MapPointCulling, LowFoundRatioAndTooFewObserversAreErased) {
   const World w = wall(60);
   std::vector<std::shared_ptr<KeyFrame>> kfs;
   std::vector<View> views(4);
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < 4; ++k) {  // no depth: every observation counts once
     const auto T = look_from({0.1 * k, 0, 0}, 0);
-    kfs.push_back(make_keyframe(map, w, T, T, true, views[k]));
+    kfs.push_back(make_keyframe(map, w, T, T, false, views[k]));
   }
   size_t next_keypoint = 0;  // the four views are identical up to a small shift: same order
   auto point_seen_by = [&](int n) {
@@ -139,6 +139,30 @@ TEST(MapPointCulling, LowFoundRatioAndTooFewObserversAreErased) {
   EXPECT_EQ(recent.cull(map, kfs[3]->id()), 0);  // three keyframes later it leaves probation
   EXPECT_EQ(recent.size(), 0u);
   EXPECT_FALSE(three_observers->is_bad());
+}
+
+TEST(MapPointCulling, AnObservationWithDepthCountsTwice) {
+  Map map;
+  const World w = wall(60);
+  View v0, v1, v2;
+  const auto T = look_from({0, 0, 0}, 0);
+  const auto kf0 = make_keyframe(map, w, T, T, true, v0);
+  make_keyframe(map, w, T, T, true, v1);
+  const auto kf2 = make_keyframe(map, w, T, T, true, v2);
+  std::vector<size_t> stereo;  // keypoints whose virtual right coordinate is in the image
+  for (size_t i = 0; i < v0.physical.size() && stereo.size() < 2; ++i)
+    if (kf0->features().right_x[i] >= 0) stereo.push_back(i);
+  ASSERT_EQ(stereo.size(), 2u);
+  const auto alone = make_point(map, kf0, stereo[0], w.points[v0.physical[stereo[0]]]);  // weight 2
+  const auto pair = make_point(map, kf0, stereo[1], w.points[v0.physical[stereo[1]]]);
+  add_observation(map.keyframe(1), stereo[1], pair);  // same view: weight 4
+  EXPECT_EQ(pair->weighted_observations(map), 4);
+  RecentMapPoints recent;
+  recent.add(alone->id(), kf0->id());
+  recent.add(pair->id(), kf0->id());
+  EXPECT_EQ(recent.cull(map, kf2->id()), 1);
+  EXPECT_TRUE(alone->is_bad());
+  EXPECT_FALSE(pair->is_bad());
 }
 
 TEST(KeyFrameCulling, RedundantKeyFrameIsCulledAndItsChildrenReattached) {

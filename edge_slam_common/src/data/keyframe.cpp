@@ -80,7 +80,7 @@ std::vector<std::shared_ptr<MapPoint>> KeyFrame::map_points(const Map& map) cons
 int KeyFrame::tracked_map_points(const Map& map, int min_obs) const {
   int n = 0;
   for (const auto& mp : map_points(map))
-    if (mp && mp->num_observations() >= min_obs) ++n;
+    if (mp && mp->weighted_observations(map) >= min_obs) ++n;
   return n;
 }
 

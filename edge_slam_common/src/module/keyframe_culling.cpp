@@ -14,7 +14,7 @@ bool is_redundant_keyframe(const Map& map, const KeyFrame& kf, const KeyFrameCul
     if (!f.is_close(i)) continue;  // RGB-D: only close points say what this keyframe adds
     ++considered;
     const auto obs = mp->observations();
-    if (static_cast<int>(obs.size()) <= params.min_other_observers) continue;
+    if (mp->weighted_observations(map) <= params.min_other_observers) continue;
     const int level = f.keys_un[i].octave;
     int observers = 0;
     for (const auto& [other_id, idx] : obs) {

@@ -13,7 +13,7 @@ int RecentMapPoints::cull(Map& map, uint32_t current_kf_id) {
     if (!mp || mp->is_bad()) {
       // already gone
     } else if (mp->found_ratio() < params_.min_found_ratio ||
-               (age >= 2 && mp->num_observations() < params_.min_observers)) {
+               (age >= 2 && mp->weighted_observations(map) < params_.min_observers)) {
       erase_map_point(map, mp);
       ++erased;
     } else if (age < params_.probation_keyframes) {

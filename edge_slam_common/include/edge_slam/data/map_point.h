@@ -41,6 +41,9 @@ class MapPoint {
   void clear_observations();
   std::map<uint32_t, int> observations() const;
   int num_observations() const;
+  // Observations counted as ORB-SLAM2 does for RGB-D: 2 for a keypoint with depth (a
+  // virtual stereo measurement), 1 otherwise; observing keyframes missing from `map` count 1.
+  int weighted_observations(const Map& map) const;
   int index_in(uint32_t kf_id) const;  // -1 when not observed by that keyframe
 
   uint32_t reference_kf_id() const;

@@ -1,7 +1,8 @@
 // Recently created map points on probation (ORB-SLAM2's MapPointCulling): a point is erased
 // when tracking found it in fewer than 25% of the frames predicting it visible, or when it
-// is still seen by fewer than `min_observers` keyframes once two keyframes have passed since
-// its creation; after three keyframes it leaves probation.
+// still has fewer than `min_observers` observations once two keyframes have passed since its
+// creation (weighted as ORB-SLAM2 does: a keypoint with depth counts twice, so an RGB-D
+// point needs two observing keyframes); after three keyframes it leaves probation.
 #pragma once
 #include <cstdint>
 #include <list>
@@ -13,7 +14,7 @@ namespace edge_slam {
 
 struct MapPointCullingParams {
   float min_found_ratio = 0.25f;
-  int min_observers = 3;        // ORB-SLAM2: 2 monocular, 3 stereo / RGB-D
+  int min_observers = 3;        // weighted; ORB-SLAM2: 2 monocular, 3 stereo / RGB-D
   uint32_t probation_keyframes = 3;
 };
 
