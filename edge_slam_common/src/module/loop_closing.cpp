@@ -1,6 +1,7 @@
 #include "edge_slam/module/loop_closing.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -24,7 +25,8 @@ LoopClosing::LoopClosing(std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatab
       local_mapping_(local_mapping),
       params_(params),
       detector_(params.detector),
-      queue_(params.queue_capacity) {}
+      queue_(params.queue_capacity),
+      debug_(std::getenv("EDGE_SLAM_DEBUG_LOOP") != nullptr) {}
 
 LoopClosing::~LoopClosing() { shutdown(false); }
 
@@ -76,6 +78,10 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   const auto t0 = Clock::now();
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) return false;
   const auto candidates = detector_.detect(*map_, *database_, kf);
+  if (debug_) {
+    std::cerr << "[loop] KF " << kf->id() << ": min score " << detector_.last_min_score() << ", "
+              << detector_.last_raw_candidates() << " raw candidate(s), " << candidates.size() << " consistent\n";
+  }
   LoopMatch match;
   std::string why;
   const bool found = !candidates.empty() && verify_loop(*map_, kf, candidates, match, &why, params_.verifier);

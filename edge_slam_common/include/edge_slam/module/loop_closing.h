@@ -76,6 +76,7 @@ class LoopClosing {
   BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
   std::thread thread_;
   std::atomic<bool> busy_{false};
+  bool debug_;  // EDGE_SLAM_DEBUG_LOOP set: one line per keyframe on detection
 
   std::thread full_ba_thread_;
   std::atomic<bool> full_ba_running_{false};
