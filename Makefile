@@ -1,0 +1,28 @@
+# edge_slam front door. Every target is a thin wrapper around scripts/ so the same steps run
+# by hand, from CI (.ci/run -> make test) and from the README.
+#   make setup                       install Debian packages + venv, build, generate the default data
+#   make demo  [HEADLESS=1]          setup, then run the main demo on the embedded synthetic sequence
+#   make test                        setup, then every unit + integration test; ends "N passed, N failed"
+#   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir>
+#   make bench DATASET=<TUM folder or bag> OUT=<dir>
+SHELL := /bin/bash
+DATASET ?= bags/synthetic_room
+MODE ?= monolithic
+OUT ?= results/$(notdir $(DATASET))-$(MODE)
+HEADLESS ?= 0
+
+.PHONY: setup demo test eval bench dataset build
+setup:
+	bash scripts/setup.sh
+build:
+	bash scripts/build.sh
+dataset:
+	bash scripts/make_dataset.sh --force
+demo: setup
+	HEADLESS=$(HEADLESS) bash scripts/demo.sh
+test:
+	bash scripts/test.sh
+eval:
+	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" bash scripts/eval.sh
+bench:
+	@echo "make bench: not yet available (benchmark suite: issue 'Benchmark suite')" >&2; exit 2

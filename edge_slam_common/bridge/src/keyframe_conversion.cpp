@@ -1,0 +1,96 @@
+// KeyFrameRecord <-> edge_slam_msgs::KeyFrame.
+#include <edge_slam_bridge/message_conversion.h>
+
+#include "feature_packing.h"
+#include "pose_conversion.h"
+
+namespace edge_slam {
+
+edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
+  edge_slam_msgs::KeyFrame msg;
+  msg.version = edge_slam_msgs::KeyFrame::FORMAT_VERSION;
+  msg.seq = r.seq;
+  msg.id = r.id;
+  msg.frame_id = r.frame_id;
+  msg.stamp = ros::Time(r.stamp);
+  msg.reset = r.reset;
+  msg.pose = pose_to_message(r.T_wc);
+  packing::pack_camera_and_features(r.camera, r.features, msg);
+  msg.obs_kp_index.reserve(r.observations.size());
+  msg.obs_point_id.reserve(r.observations.size());
+  for (const auto& [kp, point] : r.observations) {
+    msg.obs_kp_index.push_back(static_cast<uint16_t>(kp));
+    msg.obs_point_id.push_back(point);
+  }
+  for (const NewPointRecord& p : r.new_points) {
+    msg.new_point_id.push_back(p.id);
+    msg.new_point_kp_index.push_back(static_cast<uint16_t>(p.kp_index));
+    msg.new_point_xyz.insert(msg.new_point_xyz.end(), {p.position.x(), p.position.y(), p.position.z()});
+  }
+  msg.parent_id = r.parent_id;
+  for (const auto& [kf, weight] : r.covisibility) {
+    msg.covis_ids.push_back(kf);
+    msg.covis_weights.push_back(static_cast<uint16_t>(std::min<uint32_t>(weight, 65535)));
+  }
+  return msg;
+}
+
+DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& out,
+                          const MessageLimits& limits) {
+  if (msg.version != edge_slam_msgs::KeyFrame::FORMAT_VERSION)
+    return DecodeStatus::failure("KeyFrame version " + std::to_string(msg.version) + ", expected " +
+                                 std::to_string(edge_slam_msgs::KeyFrame::FORMAT_VERSION));
+  if (msg.id == kNoId) return DecodeStatus::failure("KeyFrame id is the reserved 'no id' value");
+  KeyFrameRecord r;
+  if (!pose_from_message(msg.pose, r.T_wc))
+    return DecodeStatus::failure("KeyFrame pose is not finite or its quaternion is not unit length");
+  DecodeStatus s = packing::unpack_camera_and_features(msg, limits, r.camera, r.features);
+  if (!s.ok) return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + ": " + s.error);
+  const size_t n = r.features.size();
+
+  if (msg.obs_kp_index.size() != msg.obs_point_id.size())
+    return DecodeStatus::failure("obs_kp_index and obs_point_id differ in length");
+  if (msg.obs_kp_index.size() > n) return DecodeStatus::failure("more observations than keypoints");
+  r.observations.reserve(msg.obs_kp_index.size());
+  for (size_t i = 0; i < msg.obs_kp_index.size(); ++i) {
+    if (msg.obs_kp_index[i] >= n)
+      return DecodeStatus::failure("obs_kp_index[" + std::to_string(i) + "] = " +
+                                   std::to_string(msg.obs_kp_index[i]) + " >= keypoints " + std::to_string(n));
+    if (msg.obs_point_id[i] == kNoId) return DecodeStatus::failure("observation of the reserved point id");
+    r.observations.emplace_back(msg.obs_kp_index[i], msg.obs_point_id[i]);
+  }
+
+  const size_t m = msg.new_point_id.size();
+  if (m > limits.max_new_points) return DecodeStatus::failure("too many new points: " + std::to_string(m));
+  if (msg.new_point_kp_index.size() != m || msg.new_point_xyz.size() != 3 * m)
+    return DecodeStatus::failure("new_point arrays disagree: ids " + std::to_string(m) + ", kp_index " +
+                                 std::to_string(msg.new_point_kp_index.size()) + ", xyz " +
+                                 std::to_string(msg.new_point_xyz.size()) + " (expected 3 per point)");
+  r.new_points.resize(m);
+  for (size_t i = 0; i < m; ++i) {
+    NewPointRecord& p = r.new_points[i];
+    p.id = msg.new_point_id[i];
+    p.kp_index = msg.new_point_kp_index[i];
+    p.position = {msg.new_point_xyz[3 * i], msg.new_point_xyz[3 * i + 1], msg.new_point_xyz[3 * i + 2]};
+    if (p.id == kNoId) return DecodeStatus::failure("new point with the reserved id");
+    if (p.kp_index >= n) return DecodeStatus::failure("new_point_kp_index out of range at " + std::to_string(i));
+    if (!p.position.allFinite()) return DecodeStatus::failure("new point " + std::to_string(p.id) + " is not finite");
+  }
+
+  if (msg.covis_ids.size() != msg.covis_weights.size())
+    return DecodeStatus::failure("covis_ids and covis_weights differ in length");
+  if (msg.covis_ids.size() > limits.max_covisibility) return DecodeStatus::failure("too many covisibility links");
+  for (size_t i = 0; i < msg.covis_ids.size(); ++i)
+    r.covisibility.emplace_back(msg.covis_ids[i], msg.covis_weights[i]);
+
+  r.seq = msg.seq;
+  r.id = msg.id;
+  r.frame_id = msg.frame_id;
+  r.stamp = msg.stamp.toSec();
+  r.reset = msg.reset;
+  r.parent_id = msg.parent_id;
+  out = std::move(r);
+  return {};
+}
+
+}  // namespace edge_slam

@@ -1,0 +1,140 @@
+// Round trips and rejection of malformed messages for the message <-> record bridge.
+#include <edge_slam_bridge/message_conversion.h>
+#include <gtest/gtest.h>
+#include <ros/serialization.h>
+
+#include <cmath>
+#include <random>
+
+namespace edge_slam {
+namespace {
+
+KeyFrameRecord make_keyframe(size_t n_features, size_t n_obs, size_t n_new, uint32_t seed = 7) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> ux(0.f, 639.f), uy(0.f, 479.f), ua(0.f, 359.9f), ud(0.4f, 8.f);
+  KeyFrameRecord r;
+  r.seq = 42;
+  r.id = 17;
+  r.frame_id = 1234;
+  r.stamp = 1305031102.175304;
+  r.T_wc.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, 0.1).normalized()).toRotationMatrix();
+  r.T_wc.translation() = Eigen::Vector3d(0.5, -0.2, 1.3);
+  r.camera = {"synthetic_room", 525, 525, 319.5, 239.5, 40.0, 3.05f, 640, 480};
+  r.features.descriptors.create(static_cast<int>(n_features), 32, CV_8U);
+  for (size_t i = 0; i < n_features; ++i) {
+    r.features.keypoints.emplace_back(ux(rng), uy(rng), 31.f, ua(rng), 0.f, static_cast<int>(i % 8));
+    r.features.depth.push_back(i % 5 == 0 ? 0.f : ud(rng));
+    for (int b = 0; b < 32; ++b) r.features.descriptors.at<uint8_t>(static_cast<int>(i), b) = rng() & 0xFF;
+  }
+  for (size_t i = 0; i < n_obs; ++i) r.observations.emplace_back(static_cast<uint32_t>(i), 1000 + i);
+  for (size_t i = 0; i < n_new; ++i)
+    r.new_points.push_back({static_cast<uint32_t>(5000 + i), static_cast<uint32_t>(n_obs + i),
+                            Eigen::Vector3f(0.1f * i, 1.f, 2.f)});
+  r.parent_id = 16;
+  r.covisibility = {{16, 320}, {12, 40}};
+  return r;
+}
+
+TEST(BridgeConversion, KeyFrameRoundTripWithinQuantisation) {
+  const KeyFrameRecord in = make_keyframe(1000, 400, 200);
+  const edge_slam_msgs::KeyFrame msg = to_message(in);
+  KeyFrameRecord out;
+  const DecodeStatus s = from_message(msg, out);
+  ASSERT_TRUE(s.ok) << s.error;
+  EXPECT_EQ(out.id, in.id);
+  EXPECT_EQ(out.seq, in.seq);
+  EXPECT_NEAR(out.stamp, in.stamp, 1e-6);
+  EXPECT_TRUE(out.T_wc.isApprox(in.T_wc, 1e-9));
+  ASSERT_EQ(out.features.size(), in.features.size());
+  for (size_t i = 0; i < in.features.size(); ++i) {
+    EXPECT_NEAR(out.features.keypoints[i].pt.x, in.features.keypoints[i].pt.x, 1.0 / 16);
+    EXPECT_NEAR(out.features.keypoints[i].pt.y, in.features.keypoints[i].pt.y, 1.0 / 16);
+    EXPECT_EQ(out.features.keypoints[i].octave, in.features.keypoints[i].octave);
+    const float da = std::fabs(out.features.keypoints[i].angle - in.features.keypoints[i].angle);
+    EXPECT_LT(std::min(da, 360.f - da), 0.71f);
+    EXPECT_NEAR(out.features.depth[i], in.features.depth[i], 1.0 / 8000);
+  }
+  EXPECT_EQ(cv::norm(out.features.descriptors, in.features.descriptors, cv::NORM_HAMMING), 0);
+  EXPECT_EQ(out.observations, in.observations);
+  ASSERT_EQ(out.new_points.size(), in.new_points.size());
+  EXPECT_EQ(out.new_points[3].id, in.new_points[3].id);
+  EXPECT_TRUE(out.new_points[3].position.isApprox(in.new_points[3].position));
+  EXPECT_EQ(out.covisibility, in.covisibility);
+  EXPECT_EQ(out.parent_id, in.parent_id);
+}
+
+TEST(BridgeConversion, KeyFrameWireSizeIsCompact) {
+  const edge_slam_msgs::KeyFrame msg = to_message(make_keyframe(1000, 400, 200));
+  const uint32_t bytes = ros::serialization::serializationLength(msg);
+  // 32 KB of descriptors dominate; everything else is a few bytes per keypoint.
+  EXPECT_LT(bytes, 48u * 1024u);
+  std::cout << "KeyFrame wire size at 1000 features, 400 observations, 200 new points: " << bytes << " bytes\n";
+}
+
+TEST(BridgeConversion, RejectsMalformedKeyFrames) {
+  const edge_slam_msgs::KeyFrame good = to_message(make_keyframe(50, 20, 10));
+  KeyFrameRecord out;
+  auto expect_reject = [&](edge_slam_msgs::KeyFrame m, const char* what) {
+    const DecodeStatus s = from_message(m, out);
+    EXPECT_FALSE(s.ok) << what;
+    EXPECT_FALSE(s.error.empty()) << what;
+  };
+  { auto m = good; m.version = 99; expect_reject(m, "version"); }
+  { auto m = good; m.descriptors.pop_back(); expect_reject(m, "descriptor length"); }
+  { auto m = good; m.kp_xy.push_back(1); expect_reject(m, "kp_xy length"); }
+  { auto m = good; m.kp_depth.clear(); expect_reject(m, "kp_depth length"); }
+  { auto m = good; m.pose.position.x = std::nan(""); expect_reject(m, "NaN pose"); }
+  { auto m = good; m.pose.orientation.w = 5; expect_reject(m, "non-unit quaternion"); }
+  { auto m = good; m.obs_kp_index[0] = 50; expect_reject(m, "observation index"); }
+  { auto m = good; m.obs_point_id.pop_back(); expect_reject(m, "observation arrays"); }
+  { auto m = good; m.new_point_xyz.pop_back(); expect_reject(m, "new point xyz"); }
+  { auto m = good; m.new_point_xyz[0] = INFINITY; expect_reject(m, "infinite new point"); }
+  { auto m = good; m.intrinsics[0] = 0; expect_reject(m, "fx"); }
+  { auto m = good; m.width = 0; expect_reject(m, "width"); }
+  { auto m = good; m.id = kNoId; expect_reject(m, "reserved id"); }
+  EXPECT_EQ(out.id, kNoId) << "a rejected message must leave the output untouched";
+}
+
+TEST(BridgeConversion, MapUpdateRoundTripAndRejection) {
+  MapUpdateRecord in;
+  in.kind = MapUpdateKind::kRelocalization;
+  in.seq = 3;
+  in.request_frame_id = 99;
+  in.last_keyframe_seq = 41;
+  for (uint32_t k = 0; k < 6; ++k) in.keyframes.push_back(make_keyframe(100, 50, 0, k));
+  for (uint32_t i = 0; i < 300; ++i) {
+    MapPointRecord p;
+    p.id = 1000 + i;
+    p.position = {0.01f * i, 1, 2};
+    p.normal = {0, 0, -1};
+    p.descriptor.fill(static_cast<uint8_t>(i));
+    p.min_distance = 0.5f;
+    p.max_distance = 4.f;
+    p.ref_keyframe_id = 17;
+    in.points.push_back(p);
+  }
+  const edge_slam_msgs::MapUpdate msg = to_message(in);
+  MapUpdateRecord out;
+  ASSERT_TRUE(from_message(msg, out).ok);
+  EXPECT_EQ(out.kind, MapUpdateKind::kRelocalization);
+  EXPECT_EQ(out.request_frame_id, 99u);
+  EXPECT_EQ(out.keyframes.size(), 6u);
+  ASSERT_EQ(out.points.size(), 300u);
+  EXPECT_EQ(out.points[7].descriptor, in.points[7].descriptor);
+  EXPECT_TRUE(out.points[7].position.isApprox(in.points[7].position));
+
+  auto bad = msg;
+  bad.points.normals.pop_back();
+  EXPECT_FALSE(from_message(bad, out).ok);
+  bad = msg;
+  bad.kind = 7;
+  EXPECT_FALSE(from_message(bad, out).ok);
+  bad = msg;
+  bad.keyframes[2].descriptors.resize(3);
+  const DecodeStatus s = from_message(bad, out);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.error.find("keyframes[2]"), std::string::npos) << s.error;
+}
+
+}  // namespace
+}  // namespace edge_slam

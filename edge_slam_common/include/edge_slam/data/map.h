@@ -1,0 +1,60 @@
+// The map: keyframes and map points indexed by id in hash maps, so that clearing it and
+// rebuilding it from lists (a Local-Map update) is linear in their number. Also holds the
+// id allocators and the "reference" map points (the tracker's local map, for drawing).
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "edge_slam/data/keyframe.h"
+#include "edge_slam/data/map_point.h"
+
+namespace edge_slam {
+
+class Map {
+ public:
+  void add_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  void add_map_point(const std::shared_ptr<MapPoint>& mp);
+  void erase_keyframe(uint32_t id);
+  void erase_map_point(uint32_t id);
+
+  std::shared_ptr<KeyFrame> keyframe(uint32_t id) const;    // null if absent
+  std::shared_ptr<MapPoint> map_point(uint32_t id) const;   // null if absent
+  std::vector<std::shared_ptr<KeyFrame>> keyframes() const;   // sorted by id
+  std::vector<std::shared_ptr<MapPoint>> map_points() const;  // sorted by id
+  size_t num_keyframes() const;
+  size_t num_map_points() const;
+
+  void clear();
+  // Replaces the content with the given keyframes and map points and re-links them in
+  // linear time: map point observations are rebuilt from the keyframes' map point ids
+  // (ids of absent points are dropped), covisibility is recomputed, spanning tree parents
+  // are kept when the parent is present (recomputed otherwise) and children re-derived.
+  void rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
+               const std::vector<std::shared_ptr<MapPoint>>& mps);
+
+  void set_reference_map_points(std::vector<std::shared_ptr<MapPoint>> mps);
+  std::vector<std::shared_ptr<MapPoint>> reference_map_points() const;
+
+  uint32_t new_keyframe_id() { return next_kf_id_++; }
+  uint32_t new_map_point_id() { return next_mp_id_++; }
+  // Makes future ids larger than any id already used (e.g. ids coming from another map).
+  void reserve_ids(uint32_t next_kf_id, uint32_t next_mp_id);
+
+  // Held by a module while it changes the map as a whole (like ORB-SLAM2's
+  // mMutexMapUpdate), so that tracking never sees a half-applied update.
+  std::mutex& update_mutex() const { return update_mutex_; }
+
+ private:
+  mutable std::mutex mutex_;
+  mutable std::mutex update_mutex_;
+  std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> keyframes_;
+  std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> map_points_;
+  std::vector<std::shared_ptr<MapPoint>> reference_map_points_;
+  std::atomic<uint32_t> next_kf_id_{0};
+  std::atomic<uint32_t> next_mp_id_{0};
+};
+
+}  // namespace edge_slam

@@ -1,0 +1,81 @@
+// A 3-D landmark: position, representative ORB descriptor, mean viewing direction,
+// scale-invariance distance range and the keyframes observing it (keyframe id ->
+// keypoint index). Thread-safe: position and observation data have their own mutexes.
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+
+#include "edge_slam/data/scale_pyramid.h"
+#include "edge_slam/feature/descriptor_distance.h"
+
+namespace edge_slam {
+
+class Map;
+using Descriptor = std::array<uint8_t, kDescriptorBytes>;
+constexpr uint32_t kNoId = 0xffffffffu;
+
+class MapPoint {
+ public:
+  MapPoint(uint32_t id, const Eigen::Vector3d& position, uint32_t reference_kf_id);
+
+  uint32_t id() const { return id_; }
+
+  Eigen::Vector3d position() const;
+  void set_position(const Eigen::Vector3d& p);
+  Eigen::Vector3d normal() const;
+  float min_distance() const;  // scale-invariance range (0.8 / 1.2 margins applied)
+  float max_distance() const;
+  void set_normal_and_distances(const Eigen::Vector3d& normal, float min_d, float max_d);
+  // Pyramid level at which the point should appear when seen from distance `dist`.
+  int predict_level(double dist, const ScalePyramid& pyramid) const;
+
+  Descriptor descriptor() const;
+  void set_descriptor(const uint8_t* d);
+
+  void add_observation(uint32_t kf_id, int keypoint_index);
+  void erase_observation(uint32_t kf_id);
+  void clear_observations();
+  std::map<uint32_t, int> observations() const;
+  int num_observations() const;
+  int index_in(uint32_t kf_id) const;  // -1 when not observed by that keyframe
+
+  uint32_t reference_kf_id() const;
+  void set_reference_kf_id(uint32_t id);
+
+  // Tracking statistics: how often the point was predicted visible, and actually matched.
+  void increase_visible(int n = 1) { visible_ += n; }
+  void increase_found(int n = 1) { found_ += n; }
+  int visible() const { return visible_; }
+  int found() const { return found_; }
+  float found_ratio() const { return visible_ > 0 ? static_cast<float>(found_) / visible_ : 0.f; }
+
+  bool is_bad() const { return bad_; }
+  void set_bad() { bad_ = true; }
+
+  // Recompute from the observing keyframes held in `map` (missing ones are skipped):
+  // the descriptor with least median distance to the others, and the mean viewing normal
+  // plus distance range from the reference keyframe's observation.
+  void update_descriptor(const Map& map);
+  void update_normal_and_depth(const Map& map);
+
+ private:
+  const uint32_t id_;
+  mutable std::mutex pos_mutex_;
+  Eigen::Vector3d position_;
+  Eigen::Vector3d normal_ = Eigen::Vector3d::Zero();
+  float min_distance_ = 0.f, max_distance_ = 0.f;
+
+  mutable std::mutex features_mutex_;
+  Descriptor descriptor_{};
+  std::map<uint32_t, int> observations_;
+  uint32_t reference_kf_id_;
+
+  std::atomic<int> visible_{1}, found_{1};
+  std::atomic<bool> bad_{false};
+};
+
+}  // namespace edge_slam

@@ -1,0 +1,121 @@
+// RGB-D tracking (ORB-SLAM2's state machine), working on whatever Map it is given: the
+// full map (monolithic) or the mobile's Local-Map (split).
+//   NOT_INITIALIZED -> first frame with enough keypoints: one keyframe, map points from
+//                      every keypoint with valid depth.
+//   OK   -> constant-velocity motion model (or reference keyframe by BoW), pose-only
+//           optimisation, then local map tracking and a second optimisation; keyframe
+//           decision; a new keyframe gets new close-depth map points.
+//   LOST -> relocalization on every frame until it succeeds.
+// New keyframes are inserted into the map (observations, covisibility, spanning tree,
+// keyframe database) and then handed to on_new_keyframe (the local mapper's queue).
+#pragma once
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "edge_slam/camera/camera_loader.h"
+#include "edge_slam/data/frame.h"
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/data/map.h"
+#include "edge_slam/feature/orb_extractor.h"
+#include "edge_slam/module/local_map.h"
+#include "edge_slam/module/relocalizer.h"
+#include "edge_slam/module/tracking_params.h"
+
+namespace edge_slam {
+
+class BowVocabulary;
+
+enum class TrackingState { kNotInitialized, kOk, kLost };
+const char* to_string(TrackingState s);
+
+struct TrackingResult {
+  TrackingState state = TrackingState::kNotInitialized;
+  bool pose_valid = false;        // T_cw is a tracked pose of this frame
+  Eigen::Isometry3d T_cw = Eigen::Isometry3d::Identity();
+  uint64_t frame_id = 0;
+  int keypoints = 0;
+  int inliers = 0;
+  bool new_keyframe = false;
+  bool relocalized = false;
+  double time_ms = 0;             // frame construction (ORB) + tracking
+  std::string message;            // why tracking failed / the input was rejected
+};
+
+struct TrackingCounters {
+  int frames = 0;
+  int frames_tracked = 0;
+  int times_lost = 0;        // OK -> LOST transitions
+  int relocalizations = 0;
+  int keyframes_created = 0;
+  int rejected_inputs = 0;
+};
+
+class Tracking {
+ public:
+  // vocabulary may be null: then the reference-keyframe fallback projects the last
+  // frame's points with a wide window instead of BoW matching, and relocalization is off.
+  Tracking(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& params,
+           std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
+           std::shared_ptr<const BowVocabulary> vocabulary,
+           RgbEncoding encoding = RgbEncoding::kBgr);
+
+  // Never throws for bad input: it is reported in the result (state unchanged, or LOST).
+  TrackingResult track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp);
+  // Tracks a frame built by the caller (tests, pre-extracted features).
+  TrackingResult track_frame(Frame frame);
+
+  // Receives every new keyframe after it was inserted into the map.
+  std::function<void(const std::shared_ptr<KeyFrame>&)> on_new_keyframe;
+  // Injected by the local mapper (keyframe condition 2); true while nothing runs it.
+  void set_mapper_idle(bool idle) { mapper_idle_ = idle; }
+  // Replace the relocalizer (e.g. one that asks the edge); null disables relocalization.
+  void set_relocalizer(std::shared_ptr<Relocalizer> r) { relocalizer_ = std::move(r); }
+
+  TrackingState state() const { return state_; }
+  const TrackingCounters& counters() const { return counters_; }
+  const std::vector<double>& frame_times_ms() const { return times_ms_; }
+  const Frame& last_frame() const { return last_frame_; }
+  const OrbExtractor& extractor() const { return extractor_; }
+  // Forget everything (map and database included): back to NOT_INITIALIZED.
+  void reset();
+
+ private:
+  bool initialize(Frame& frame, std::string& why);
+  bool track_with_motion_model(Frame& frame);
+  bool track_reference_keyframe(Frame& frame);
+  bool track_local_map(Frame& frame, int& inliers);
+  void search_local_points(Frame& frame, const LocalMap& local);
+  bool decide_keyframe(const Frame& frame, int inliers) const;
+  std::shared_ptr<KeyFrame> create_keyframe(Frame& frame, bool all_depth_points);
+  void predict_last_frame_pose();
+
+  PinholeCamera camera_;
+  TrackingParams params_;
+  OrbExtractor extractor_;
+  RgbEncoding encoding_;
+  std::shared_ptr<Map> map_;
+  std::shared_ptr<KeyFrameDatabase> database_;
+  std::shared_ptr<const BowVocabulary> vocabulary_;
+  std::shared_ptr<Relocalizer> relocalizer_;
+  std::atomic<bool> mapper_idle_{true};
+
+  TrackingState state_ = TrackingState::kNotInitialized;
+  uint64_t next_frame_id_ = 0;
+  Frame last_frame_;
+  bool last_frame_tracked_ = false;
+  Eigen::Isometry3d last_relative_to_ref_ = Eigen::Isometry3d::Identity();  // T_last,ref
+  bool has_velocity_ = false;
+  Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // T_cur,last
+  std::shared_ptr<KeyFrame> reference_kf_;
+  uint64_t last_keyframe_frame_id_ = 0;
+  bool relocalized_before_ = false;
+  uint64_t last_relocalization_frame_id_ = 0;
+
+  TrackingCounters counters_;
+  std::vector<double> times_ms_;
+};
+
+}  // namespace edge_slam

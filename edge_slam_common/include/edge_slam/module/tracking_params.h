@@ -1,0 +1,22 @@
+// Tracking settings and their loading from config/slam.yaml ("orb:" and "tracking:").
+#pragma once
+#include "edge_slam/feature/orb_params.h"
+#include "edge_slam/io/config_file.h"
+#include "edge_slam/module/keyframe_decision.h"
+
+namespace edge_slam {
+
+struct TrackingParams {
+  KeyFrameDecisionParams keyframe;
+  KeyFrameConditionSet conditions = KeyFrameConditionSet::kAll;
+  int min_initial_keypoints = 500;          // ORB-SLAM2 RGB-D initialisation
+  int min_inliers = 30;                     // local map tracking success
+  int min_inliers_after_relocalization = 50;
+  int new_points_per_keyframe = 100;        // closest points always made into map points
+  int max_local_keyframes = 80;
+};
+
+OrbParams load_orb_params(const ConfigMap& cfg);          // "orb:" section, defaults if absent
+TrackingParams load_tracking_params(const ConfigMap& cfg);  // "tracking:" section
+
+}  // namespace edge_slam

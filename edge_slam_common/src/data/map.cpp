@@ -1,0 +1,133 @@
+#include "edge_slam/data/map.h"
+
+#include <algorithm>
+
+namespace edge_slam {
+namespace {
+template <typename T>
+std::vector<std::shared_ptr<T>> sorted_values(const std::unordered_map<uint32_t, std::shared_ptr<T>>& m) {
+  std::vector<std::shared_ptr<T>> out;
+  out.reserve(m.size());
+  for (const auto& kv : m) out.push_back(kv.second);
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a->id() < b->id(); });
+  return out;
+}
+void raise_to(std::atomic<uint32_t>& counter, uint32_t value) {
+  uint32_t cur = counter.load();
+  while (cur < value && !counter.compare_exchange_weak(cur, value)) {
+  }
+}
+}  // namespace
+
+void Map::add_keyframe(const std::shared_ptr<KeyFrame>& kf) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  keyframes_[kf->id()] = kf;
+  raise_to(next_kf_id_, kf->id() + 1);
+}
+void Map::add_map_point(const std::shared_ptr<MapPoint>& mp) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_points_[mp->id()] = mp;
+  raise_to(next_mp_id_, mp->id() + 1);
+}
+void Map::erase_keyframe(uint32_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  keyframes_.erase(id);
+}
+void Map::erase_map_point(uint32_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_points_.erase(id);
+}
+std::shared_ptr<KeyFrame> Map::keyframe(uint32_t id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = keyframes_.find(id);
+  return it == keyframes_.end() ? nullptr : it->second;
+}
+std::shared_ptr<MapPoint> Map::map_point(uint32_t id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = map_points_.find(id);
+  return it == map_points_.end() ? nullptr : it->second;
+}
+std::vector<std::shared_ptr<KeyFrame>> Map::keyframes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sorted_values(keyframes_);
+}
+std::vector<std::shared_ptr<MapPoint>> Map::map_points() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sorted_values(map_points_);
+}
+size_t Map::num_keyframes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return keyframes_.size();
+}
+size_t Map::num_map_points() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return map_points_.size();
+}
+void Map::clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  keyframes_.clear();
+  map_points_.clear();
+  reference_map_points_.clear();
+}
+
+void Map::rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
+                  const std::vector<std::shared_ptr<MapPoint>>& mps) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    keyframes_.clear();
+    map_points_.clear();
+    reference_map_points_.clear();
+    keyframes_.reserve(kfs.size());
+    map_points_.reserve(mps.size());
+    for (const auto& kf : kfs) {
+      keyframes_[kf->id()] = kf;
+      raise_to(next_kf_id_, kf->id() + 1);
+    }
+    for (const auto& mp : mps) {
+      map_points_[mp->id()] = mp;
+      raise_to(next_mp_id_, mp->id() + 1);
+    }
+  }
+  for (const auto& mp : mps) mp->clear_observations();
+  for (const auto& kf : kfs) {
+    const auto ids = kf->map_point_ids();
+    for (size_t i = 0; i < ids.size(); ++i) {
+      if (ids[i] == kNoId) continue;
+      if (auto mp = map_point(ids[i]))
+        mp->add_observation(kf->id(), static_cast<int>(i));
+      else
+        kf->erase_map_point_id(i);
+    }
+  }
+  for (const auto& mp : mps) {
+    const auto obs = mp->observations();
+    if (!obs.empty() && !obs.count(mp->reference_kf_id())) mp->set_reference_kf_id(obs.begin()->first);
+  }
+  // Spanning tree: keep parents that are still present, re-derive the children.
+  for (const auto& kf : kfs) {
+    kf->clear_connections();
+    kf->clear_children();
+    if (kf->parent_id() != kNoId && !keyframe(kf->parent_id())) kf->set_parent(kNoId);
+  }
+  for (const auto& kf : kfs)
+    if (kf->parent_id() != kNoId) keyframe(kf->parent_id())->add_child(kf->id());
+  // Covisibility in id order (a keyframe without a parent gets one here).
+  std::vector<std::shared_ptr<KeyFrame>> ordered = kfs;
+  std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) { return a->id() < b->id(); });
+  for (const auto& kf : ordered) kf->update_connections(*this);
+}
+
+void Map::set_reference_map_points(std::vector<std::shared_ptr<MapPoint>> mps) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  reference_map_points_ = std::move(mps);
+}
+std::vector<std::shared_ptr<MapPoint>> Map::reference_map_points() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return reference_map_points_;
+}
+void Map::reserve_ids(uint32_t next_kf_id, uint32_t next_mp_id) {
+  raise_to(next_kf_id_, next_kf_id);
+  raise_to(next_mp_id_, next_mp_id);
+}
+
+}  // namespace edge_slam

@@ -1,0 +1,47 @@
+#include "edge_slam/module/frame_pose.h"
+
+#include "edge_slam/data/map_point.h"
+#include "edge_slam/optimize/pose_optimizer.h"
+
+namespace edge_slam {
+
+int optimize_frame_pose(Frame& frame) {
+  const FrameFeatures& f = frame.feat();
+  std::vector<PoseObservation> obs;
+  std::vector<size_t> keypoint_of;
+  std::vector<bool> outlier;
+  for (size_t i = 0; i < frame.map_points.size(); ++i) {
+    const auto& mp = frame.map_points[i];
+    if (!mp) continue;
+    PoseObservation o;
+    o.point_world = mp->position();
+    o.pixel = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
+    o.right_x = f.right_x[i];
+    o.inv_sigma2 = f.pyramid->inv_level_sigma2[f.keys_un[i].octave];
+    obs.push_back(o);
+    keypoint_of.push_back(i);
+    outlier.push_back(false);
+  }
+  Eigen::Isometry3d T_cw = frame.T_cw();
+  const PoseOptimizationResult r = optimize_pose(f.camera, obs, T_cw, outlier);
+  if (!r.ok) return -1;
+  frame.set_pose(T_cw);
+  for (size_t k = 0; k < keypoint_of.size(); ++k) frame.outliers[keypoint_of[k]] = outlier[k];
+  return r.inliers;
+}
+
+int discard_outliers(Frame& frame) {
+  int inliers = 0;
+  for (size_t i = 0; i < frame.map_points.size(); ++i) {
+    if (!frame.map_points[i]) continue;
+    if (frame.outliers[i]) {
+      frame.map_points[i] = nullptr;
+      frame.outliers[i] = false;
+    } else if (frame.map_points[i]->num_observations() > 0) {
+      ++inliers;
+    }
+  }
+  return inliers;
+}
+
+}  // namespace edge_slam

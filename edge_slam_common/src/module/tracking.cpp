@@ -1,0 +1,355 @@
+#include "edge_slam/module/tracking.h"
+
+#include <algorithm>
+#include <chrono>
+#include <unordered_set>
+
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/match/orb_matcher.h"
+#include "edge_slam/module/frame_pose.h"
+#include "edge_slam/module/keyframe_decision.h"
+
+namespace edge_slam {
+namespace {
+
+// ORB-SLAM2 RGB-D constants.
+constexpr float kMotionModelWindow = 7.f;     // pixels at level 0 (doubled on retry)
+constexpr int kMinMotionMatches = 20;
+constexpr int kMinBowMatches = 15;
+constexpr int kMinMapMatchesAfterPose = 10;
+constexpr float kLocalMapWindow = 3.f;        // 5 right after a relocalization
+constexpr float kMinViewCos = 0.5f;           // 60 degrees off the mean viewing direction
+
+void clear_matches(Frame& frame) {
+  frame.map_points.assign(frame.size(), nullptr);
+  frame.outliers.assign(frame.size(), false);
+}
+
+bool finite_pose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
+
+}  // namespace
+
+const char* to_string(TrackingState s) {
+  switch (s) {
+    case TrackingState::kNotInitialized: return "NOT_INITIALIZED";
+    case TrackingState::kOk: return "OK";
+    case TrackingState::kLost: return "LOST";
+  }
+  return "?";
+}
+
+Tracking::Tracking(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& params,
+                   std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
+                   std::shared_ptr<const BowVocabulary> vocabulary, RgbEncoding encoding)
+    : camera_(camera),
+      params_(params),
+      extractor_(orb),
+      encoding_(encoding),
+      map_(std::move(map)),
+      database_(std::move(database)),
+      vocabulary_(std::move(vocabulary)) {
+  if (vocabulary_ && !vocabulary_->empty())
+    relocalizer_ = std::make_shared<BowPnpRelocalizer>(map_, database_, vocabulary_,
+                                                       params_.min_inliers_after_relocalization);
+}
+
+void Tracking::reset() {
+  std::lock_guard<std::mutex> lock(map_->update_mutex());
+  map_->clear();
+  database_->clear();
+  state_ = TrackingState::kNotInitialized;
+  last_frame_ = Frame();
+  last_frame_tracked_ = false;
+  has_velocity_ = false;
+  reference_kf_.reset();
+  relocalized_before_ = false;
+}
+
+TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Frame frame;
+  try {
+    frame = Frame::from_rgbd(next_frame_id_++, stamp, color, depth, camera_, extractor_, encoding_);
+  } catch (const std::exception& e) {
+    ++counters_.frames;
+    ++counters_.rejected_inputs;
+    TrackingResult r;
+    r.state = state_;
+    r.message = std::string("input rejected: ") + e.what();
+    return r;
+  }
+  TrackingResult r = track_frame(std::move(frame));
+  r.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  times_ms_.back() = r.time_ms;
+  return r;
+}
+
+TrackingResult Tracking::track_frame(Frame frame) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+  ++counters_.frames;
+  next_frame_id_ = std::max(next_frame_id_, frame.id + 1);
+  TrackingResult result;
+  result.frame_id = frame.id;
+  result.keypoints = static_cast<int>(frame.size());
+
+  bool ok = false;
+  int inliers = 0;
+  if (state_ == TrackingState::kNotInitialized) {
+    std::string why;
+    ok = initialize(frame, why);
+    if (ok) {
+      state_ = TrackingState::kOk;
+      result.new_keyframe = true;
+      inliers = frame.num_matched();
+    } else {
+      result.message = why;
+    }
+  } else {
+    if (state_ == TrackingState::kOk) {
+      predict_last_frame_pose();
+      if (has_velocity_ && last_frame_tracked_) ok = track_with_motion_model(frame);
+      if (!ok) ok = track_reference_keyframe(frame);
+      if (!ok) result.message = "motion model and reference keyframe tracking failed";
+    } else {
+      ok = relocalizer_ && relocalizer_->relocalize(frame);
+      if (ok) {
+        result.relocalized = true;
+        relocalized_before_ = true;
+        last_relocalization_frame_id_ = frame.id;
+        ++counters_.relocalizations;
+        reference_kf_ = frame.reference_kf;
+      } else {
+        result.message = relocalizer_ ? "relocalization failed" : "lost (relocalization unavailable)";
+      }
+    }
+    if (ok) {
+      if (!frame.reference_kf) frame.reference_kf = reference_kf_;
+      ok = track_local_map(frame, inliers);
+      if (!ok) result.message = "local map tracking found too few inliers (" + std::to_string(inliers) + ")";
+    }
+    if (ok && !finite_pose(frame.T_cw())) {
+      ok = false;
+      result.message = "non-finite pose";
+    }
+    if (ok) {
+      if (last_frame_tracked_) {
+        velocity_ = frame.T_cw() * last_frame_.T_wc();
+        has_velocity_ = true;
+      } else {
+        has_velocity_ = false;
+      }
+      state_ = TrackingState::kOk;
+      if (decide_keyframe(frame, inliers)) {
+        create_keyframe(frame, false);
+        result.new_keyframe = true;
+      }
+    } else {
+      if (state_ == TrackingState::kOk) ++counters_.times_lost;
+      state_ = TrackingState::kLost;
+      has_velocity_ = false;
+    }
+  }
+
+  if (ok) {
+    ++counters_.frames_tracked;
+    result.pose_valid = true;
+    result.T_cw = frame.T_cw();
+    if (frame.reference_kf) last_relative_to_ref_ = frame.T_cw() * frame.reference_kf->T_wc();
+  }
+  result.state = state_;
+  result.inliers = inliers;
+  last_frame_tracked_ = ok;
+  last_frame_ = std::move(frame);
+  result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  times_ms_.push_back(result.time_ms);
+  return result;
+}
+
+bool Tracking::initialize(Frame& frame, std::string& why) {
+  if (static_cast<int>(frame.size()) < params_.min_initial_keypoints) {
+    why = "not initialised: " + std::to_string(frame.size()) + " keypoints (need " +
+          std::to_string(params_.min_initial_keypoints) + ")";
+    return false;
+  }
+  int with_depth = 0;
+  for (size_t i = 0; i < frame.size(); ++i) with_depth += frame.feat().has_depth(i) ? 1 : 0;
+  if (with_depth < params_.min_inliers_after_relocalization) {
+    why = "not initialised: only " + std::to_string(with_depth) + " keypoints with valid depth";
+    return false;
+  }
+  frame.set_pose(Eigen::Isometry3d::Identity());
+  clear_matches(frame);
+  create_keyframe(frame, true);
+  map_->set_reference_map_points(map_->map_points());
+  return true;
+}
+
+void Tracking::predict_last_frame_pose() {
+  // The reference keyframe may have been moved by local BA / loop closing since.
+  if (last_frame_tracked_ && last_frame_.reference_kf && !last_frame_.reference_kf->is_bad())
+    last_frame_.set_pose(last_relative_to_ref_ * last_frame_.reference_kf->T_cw());
+}
+
+bool Tracking::track_with_motion_model(Frame& frame) {
+  const OrbMatcher matcher(0.9f, true);
+  frame.set_pose(velocity_ * last_frame_.T_cw());
+  clear_matches(frame);
+  int n = matcher.search_by_projection(frame, last_frame_, kMotionModelWindow);
+  if (n < kMinMotionMatches) {
+    clear_matches(frame);
+    n = matcher.search_by_projection(frame, last_frame_, 2 * kMotionModelWindow);
+  }
+  if (n < kMinMotionMatches) return false;
+  if (optimize_frame_pose(frame) < 0) return false;
+  return discard_outliers(frame) >= kMinMapMatchesAfterPose;
+}
+
+bool Tracking::track_reference_keyframe(Frame& frame) {
+  if (!reference_kf_ || !last_frame_.has_pose()) return false;
+  clear_matches(frame);
+  frame.set_pose(last_frame_.T_cw());
+  if (vocabulary_ && !vocabulary_->empty()) {
+    frame.compute_bow(*vocabulary_);
+    const OrbMatcher matcher(0.7f, true);
+    if (matcher.search_by_bow(*reference_kf_, reference_kf_->map_points(*map_), frame) < kMinBowMatches)
+      return false;
+  } else {
+    // No vocabulary: assume no motion and search the last frame's points widely.
+    const OrbMatcher matcher(0.9f, true);
+    if (matcher.search_by_projection(frame, last_frame_, 4 * kMotionModelWindow) < kMinMotionMatches)
+      return false;
+  }
+  if (optimize_frame_pose(frame) < 0) return false;
+  return discard_outliers(frame) >= kMinMapMatchesAfterPose;
+}
+
+void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
+  std::unordered_set<uint32_t> in_frame;
+  for (auto& mp : frame.map_points) {
+    if (!mp) continue;
+    if (mp->is_bad()) {
+      mp = nullptr;
+      continue;
+    }
+    mp->increase_visible();
+    in_frame.insert(mp->id());
+  }
+  std::vector<ProjectedPoint> projected;
+  projected.reserve(local.points.size());
+  for (const auto& mp : local.points) {
+    if (mp->is_bad() || in_frame.count(mp->id())) continue;
+    ProjectedPoint p;
+    if (project_into_frame(frame, mp, kMinViewCos, p)) {
+      mp->increase_visible();
+      projected.push_back(std::move(p));
+    }
+  }
+  if (projected.empty()) return;
+  const bool just_relocalized = relocalized_before_ && frame.id < last_relocalization_frame_id_ + 2;
+  const OrbMatcher matcher(0.8f, true);
+  matcher.search_by_projection(frame, projected, just_relocalized ? 5.f : kLocalMapWindow);
+}
+
+bool Tracking::track_local_map(Frame& frame, int& inliers) {
+  inliers = 0;
+  const LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
+  if (local.reference) {
+    reference_kf_ = local.reference;
+    frame.reference_kf = local.reference;
+  }
+  map_->set_reference_map_points(local.points);
+  search_local_points(frame, local);
+  if (optimize_frame_pose(frame) < 0) return false;
+  for (size_t i = 0; i < frame.map_points.size(); ++i) {
+    const auto& mp = frame.map_points[i];
+    if (!mp || frame.outliers[i]) continue;
+    mp->increase_found();
+    if (mp->num_observations() > 0) ++inliers;
+  }
+  const bool recent_relocalization =
+      relocalized_before_ &&
+      frame.id < last_relocalization_frame_id_ +
+                     static_cast<uint64_t>(params_.keyframe.min_frames_after_relocalization);
+  const int needed = recent_relocalization ? params_.min_inliers_after_relocalization : params_.min_inliers;
+  return inliers >= needed;
+}
+
+bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
+  if (!reference_kf_) return true;
+  const size_t n_kfs = map_->num_keyframes();
+  KeyFrameDecisionInput in;
+  in.frame_id = frame.id;
+  in.relocalized_before = relocalized_before_;
+  in.last_relocalization_frame_id = last_relocalization_frame_id_;
+  in.last_keyframe_frame_id = last_keyframe_frame_id_;
+  in.mapper_idle = mapper_idle_;
+  in.tracked_points = inliers;
+  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, n_kfs <= 2 ? 2 : 3);
+  const FrameFeatures& f = frame.feat();
+  for (size_t i = 0; i < frame.size(); ++i) {
+    if (!f.is_close(i)) continue;
+    if (frame.map_points[i] && !frame.outliers[i])
+      ++in.tracked_close_points;
+    else
+      ++in.untracked_close_points;
+  }
+  return need_new_keyframe(params_.keyframe, in, params_.conditions);
+}
+
+std::shared_ptr<KeyFrame> Tracking::create_keyframe(Frame& frame, bool all_depth_points) {
+  if (vocabulary_ && !vocabulary_->empty()) frame.compute_bow(*vocabulary_);
+  auto kf = std::make_shared<KeyFrame>(map_->new_keyframe_id(), frame);
+  map_->add_keyframe(kf);
+  const FrameFeatures& f = frame.feat();
+
+  // Observations of the points this frame tracks.
+  std::vector<std::shared_ptr<MapPoint>> tracked;
+  for (size_t i = 0; i < frame.size(); ++i) {
+    auto& mp = frame.map_points[i];
+    if (!mp) continue;
+    if (frame.outliers[i] || mp->is_bad() || mp->index_in(kf->id()) >= 0) {
+      mp = nullptr;
+      frame.outliers[i] = false;
+      continue;
+    }
+    kf->set_map_point_id(i, mp->id());
+    mp->add_observation(kf->id(), static_cast<int>(i));
+    tracked.push_back(mp);
+  }
+
+  // New points from the closest unmatched keypoints with depth: every close one, and
+  // at least new_points_per_keyframe even if far (all of them at initialisation).
+  std::vector<std::pair<float, size_t>> by_depth;
+  for (size_t i = 0; i < frame.size(); ++i)
+    if (f.has_depth(i)) by_depth.emplace_back(f.depth[i], i);
+  std::sort(by_depth.begin(), by_depth.end());
+  int points = 0;
+  for (const auto& [z, i] : by_depth) {
+    if (!all_depth_points && z > camera_.th_depth && points > params_.new_points_per_keyframe) break;
+    ++points;
+    if (frame.map_points[i]) continue;
+    auto mp = std::make_shared<MapPoint>(map_->new_map_point_id(), frame.unproject_world(i), kf->id());
+    mp->set_descriptor(f.descriptor(i));
+    mp->add_observation(kf->id(), static_cast<int>(i));
+    kf->set_map_point_id(i, mp->id());
+    map_->add_map_point(mp);
+    mp->update_normal_and_depth(*map_);
+    frame.map_points[i] = mp;
+    frame.outliers[i] = false;
+  }
+  for (const auto& mp : tracked) {
+    mp->update_descriptor(*map_);
+    mp->update_normal_and_depth(*map_);
+  }
+  kf->update_connections(*map_);
+  if (kf->has_bow()) database_->add(kf);
+  reference_kf_ = kf;
+  frame.reference_kf = kf;
+  last_keyframe_frame_id_ = frame.id;
+  ++counters_.keyframes_created;
+  if (on_new_keyframe) on_new_keyframe(kf);
+  return kf;
+}
+
+}  // namespace edge_slam

@@ -1,0 +1,36 @@
+#include "edge_slam/module/tracking_params.h"
+
+namespace edge_slam {
+
+OrbParams load_orb_params(const ConfigMap& cfg) {
+  OrbParams p;
+  p.num_features = cfg.get_int_or("orb/num_features", p.num_features, 50, 100000);
+  p.scale_factor = static_cast<float>(cfg.get_double_or("orb/scale_factor", p.scale_factor, 1.01, 4.0));
+  p.num_levels = cfg.get_int_or("orb/num_levels", p.num_levels, 1, 32);
+  p.ini_fast_threshold = cfg.get_int_or("orb/ini_fast_threshold", p.ini_fast_threshold, 1, 255);
+  p.min_fast_threshold = cfg.get_int_or("orb/min_fast_threshold", p.min_fast_threshold, 1, 255);
+  return p;
+}
+
+TrackingParams load_tracking_params(const ConfigMap& cfg) {
+  TrackingParams p;
+  KeyFrameDecisionParams& k = p.keyframe;
+  k.min_frames_after_relocalization =
+      cfg.get_int_or("tracking/min_frames_after_relocalization", k.min_frames_after_relocalization, 0, 100000);
+  k.max_frames_between_keyframes =
+      cfg.get_int_or("tracking/max_frames_between_keyframes", k.max_frames_between_keyframes, 1, 100000);
+  k.min_tracked_points = cfg.get_int_or("tracking/min_tracked_points", k.min_tracked_points, 0, 100000);
+  k.ref_ratio = cfg.get_double_or("tracking/ref_ratio", k.ref_ratio, 0.0, 1.0);
+  k.close_points_tracked = cfg.get_int_or("tracking/close_points_tracked", k.close_points_tracked, 0, 100000);
+  k.close_points_new = cfg.get_int_or("tracking/close_points_new", k.close_points_new, 0, 100000);
+  p.new_points_per_keyframe =
+      cfg.get_int_or("tracking/new_points_per_keyframe", p.new_points_per_keyframe, 0, 100000);
+  p.min_initial_keypoints = cfg.get_int_or("tracking/min_initial_keypoints", p.min_initial_keypoints, 1, 100000);
+  p.min_inliers = cfg.get_int_or("tracking/min_inliers", p.min_inliers, 3, 100000);
+  p.min_inliers_after_relocalization = cfg.get_int_or(
+      "tracking/min_inliers_after_relocalization", p.min_inliers_after_relocalization, 3, 100000);
+  p.max_local_keyframes = cfg.get_int_or("tracking/max_local_keyframes", p.max_local_keyframes, 1, 100000);
+  return p;
+}
+
+}  // namespace edge_slam

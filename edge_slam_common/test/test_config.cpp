@@ -1,0 +1,110 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "edge_slam/camera/camera_loader.h"
+#include "edge_slam/io/config_file.h"
+#include "edge_slam/module/tracking_params.h"
+
+using namespace edge_slam;
+
+namespace {
+const char* kCamera =
+    "# comment line\n"
+    "camera:\n"
+    "  name: test   # trailing comment\n"
+    "  width: 640\n"
+    "  height: 480\n"
+    "  fx: 500.0\n"
+    "  fy: 500.0\n"
+    "  cx: 319.5\n"
+    "  cy: 239.5\n"
+    "  bf: 40.0\n"
+    "  th_depth: 40.0\n"
+    "  depth_factor: 5000\n"
+    "  rgb_encoding: \"rgb8\"\n";
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, ParsesSectionsIntoFlatKeys) {
+  const ConfigMap cfg = ConfigMap::parse(kCamera, "cam.yaml");
+  EXPECT_EQ(cfg.get_string("camera/name"), "test");
+  EXPECT_EQ(cfg.get_int("camera/width"), 640);
+  EXPECT_DOUBLE_EQ(cfg.get_double("camera/cx"), 319.5);
+  EXPECT_EQ(cfg.get_string("camera/rgb_encoding"), "rgb8");
+  EXPECT_FALSE(cfg.has("name"));
+}
+
+TEST(Config, MissingKeyNamesTheKey) {
+  const ConfigMap cfg = ConfigMap::parse(kCamera, "cam.yaml");
+  const std::string e = error_of([&] { cfg.get_double("camera/k9"); });
+  EXPECT_NE(e.find("camera/k9"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+  EXPECT_DOUBLE_EQ(cfg.get_double_or("camera/k9", 1.5), 1.5);
+}
+
+TEST(Config, OutOfRangeNamesKeyValueAndRange) {
+  const ConfigMap cfg = ConfigMap::parse("tracking:\n  ref_ratio: 1.5\n  n: 12x\n", "s.yaml");
+  const std::string e = error_of([&] { cfg.get_double("tracking/ref_ratio", 0.0, 1.0); });
+  EXPECT_NE(e.find("tracking/ref_ratio"), std::string::npos) << e;
+  EXPECT_NE(e.find("1.5"), std::string::npos) << e;
+  EXPECT_NE(e.find("[0, 1]"), std::string::npos) << e;
+  const std::string e2 = error_of([&] { cfg.get_int("tracking/n"); });
+  EXPECT_NE(e2.find("12x"), std::string::npos) << e2;
+  EXPECT_THROW(load_tracking_params(cfg), std::runtime_error);
+}
+
+TEST(Config, MalformedLinesReportFileAndLine) {
+  std::string e = error_of([] { ConfigMap::parse("camera:\n  fx 500\n", "bad.yaml"); });
+  EXPECT_NE(e.find("bad.yaml:2"), std::string::npos) << e;
+  e = error_of([] { ConfigMap::parse("  fx: 500\n", "bad.yaml"); });
+  EXPECT_NE(e.find("bad.yaml:1"), std::string::npos) << e;
+  e = error_of([] { ConfigMap::parse("camera:\n  sub:\n", "bad.yaml"); });
+  EXPECT_NE(e.find("bad.yaml:2"), std::string::npos) << e;
+  EXPECT_THROW(ConfigMap::load("/nonexistent/file.yaml"), std::runtime_error);
+}
+
+TEST(Config, CameraThDepthIsConvertedFromBaselines) {
+  const PinholeCamera cam = load_camera(ConfigMap::parse(kCamera));
+  EXPECT_EQ(cam.width, 640);
+  EXPECT_NEAR(cam.th_depth, 40.0 * 40.0 / 500.0, 1e-12);
+  EXPECT_NEAR(cam.baseline(), 0.08, 1e-12);
+  EXPECT_DOUBLE_EQ(cam.depth_factor, 5000);
+  EXPECT_FALSE(cam.has_distortion());
+  EXPECT_EQ(load_rgb_encoding(ConfigMap::parse(kCamera)), RgbEncoding::kRgb);
+}
+
+TEST(Config, CameraRejectsBadValues) {
+  ConfigMap cfg = ConfigMap::parse(kCamera);
+  cfg.set("camera/fx", "-3");
+  EXPECT_NE(error_of([&] { load_camera(cfg); }).find("camera/fx"), std::string::npos);
+  cfg = ConfigMap::parse(kCamera);
+  cfg.set("camera/rgb_encoding", "yuv");
+  EXPECT_NE(error_of([&] { load_camera(cfg); }).find("rgb_encoding"), std::string::npos);
+}
+
+TEST(Config, ShippedConfigsLoad) {
+  // Tests run from edge_slam_common/.
+  const PinholeCamera cam = load_camera("../config/camera_tum1.yaml");
+  EXPECT_NEAR(cam.fx, 517.306408, 1e-9);
+  EXPECT_TRUE(cam.has_distortion());
+  EXPECT_NEAR(cam.th_depth, 40.0 * 40.0 / 517.306408, 1e-9);
+  const ConfigMap slam = ConfigMap::load("../config/slam.yaml");
+  const OrbParams orb = load_orb_params(slam);
+  EXPECT_EQ(orb.num_features, 1000);
+  EXPECT_EQ(orb.num_levels, 8);
+  const TrackingParams tp = load_tracking_params(slam);
+  EXPECT_EQ(tp.keyframe.max_frames_between_keyframes, 20);
+  EXPECT_DOUBLE_EQ(tp.keyframe.ref_ratio, 0.9);
+  EXPECT_DOUBLE_EQ(slam.get_double("edge_slam/initial_time_constraint"), 0.3);
+  EXPECT_EQ(slam.get_int("edge_slam/update_size"), 6);
+}

@@ -1,0 +1,135 @@
+// Trains a bag-of-words vocabulary from image folders or TUM RGB-D sequence folders.
+//   train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]
+//                    [--seed S] <inputs...>
+// An input is a TUM folder (has rgb.txt; frames in its order) or a folder of images (all
+// .png/.jpg/.jpeg, sorted by name). --every keeps every N-th frame of each input, --max-images
+// caps the total. An --out path ending in .txt writes ORB-SLAM2's ORBvoc.txt format instead
+// of our binary format.
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "edge_slam/data/bow_training_features.h"
+#include "edge_slam/data/bow_training_images.h"
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/io/vocabulary_io.h"
+
+using namespace edge_slam;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Options {
+  std::string out;
+  VocabularyParams params;
+  int every = 1;
+  long max_images = -1;
+  std::vector<std::string> inputs;
+};
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string lowercase(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::vector<std::string> selected_frames(const Options& options) {
+  std::vector<std::string> selected;
+  for (const std::string& input : options.inputs) {
+    const std::vector<std::string> frames = list_training_images(input);
+    size_t kept = 0;
+    for (size_t i = 0; i < frames.size(); i += static_cast<size_t>(options.every), ++kept) selected.push_back(frames[i]);
+    std::printf("%s: %zu frames, using %zu\n", input.c_str(), frames.size(), kept);
+  }
+  if (options.max_images >= 0 && selected.size() > static_cast<size_t>(options.max_images))
+    selected.resize(static_cast<size_t>(options.max_images));
+  return selected;
+}
+
+[[noreturn]] void usage(const std::string& message) {
+  std::fprintf(stderr,
+               "error: %s\n"
+               "usage: train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]\n"
+               "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n",
+               message.c_str());
+  std::exit(2);
+}
+
+long parse_integer(const std::string& flag, const char* text, long min) {
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || value < min)
+    usage(flag + " expects an integer >= " + std::to_string(min) + ", got '" + text + "'");
+  return value;
+}
+
+Options parse_options(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.rfind("--", 0) == 0) {
+      if (i + 1 >= argc) usage(arg + " needs a value");
+      const char* value = argv[++i];
+      if (arg == "--out") o.out = value;
+      else if (arg == "--k") o.params.branching = static_cast<int>(parse_integer(arg, value, 2));
+      else if (arg == "--levels") o.params.levels = static_cast<int>(parse_integer(arg, value, 1));
+      else if (arg == "--every") o.every = static_cast<int>(parse_integer(arg, value, 1));
+      else if (arg == "--max-images") o.max_images = parse_integer(arg, value, 1);
+      else if (arg == "--seed") o.params.seed = static_cast<uint64_t>(parse_integer(arg, value, 0));
+      else usage("unknown option " + arg);
+    } else {
+      o.inputs.push_back(arg);
+    }
+  }
+  if (o.out.empty()) usage("--out is required");
+  if (o.inputs.empty()) usage("no inputs given");
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options options = parse_options(argc, argv);
+  try {
+    const std::vector<std::string> frames = selected_frames(options);
+    auto start = Clock::now();
+    std::vector<cv::Mat> descriptors;
+    size_t total = 0;
+    for (size_t i = 0; i < frames.size(); ++i) {
+      const cv::Mat gray = cv::imread(frames[i], cv::IMREAD_GRAYSCALE);
+      if (gray.empty()) throw std::runtime_error("cannot read image '" + frames[i] + "'");
+      descriptors.push_back(extract_training_descriptors(gray));
+      total += static_cast<size_t>(descriptors.back().rows);
+      if ((i + 1) % 100 == 0) std::printf("  features: %zu / %zu images\n", i + 1, frames.size());
+    }
+    std::printf("extracted %zu descriptors from %zu images in %.1f s\n", total, frames.size(), seconds_since(start));
+
+    start = Clock::now();
+    BowVocabulary vocabulary;
+    vocabulary.train(descriptors, options.params);
+    std::printf("trained k=%d L=%d: %zu words (%zu nodes) in %.1f s\n", vocabulary.branching(), vocabulary.levels(),
+                vocabulary.size(), vocabulary.node_count(), seconds_since(start));
+
+    if (ends_with(lowercase(options.out), ".txt")) save_vocabulary_text(vocabulary, options.out);
+    else save_vocabulary_binary(vocabulary, options.out);
+    std::printf("wrote %s\n", options.out.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

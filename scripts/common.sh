@@ -1,0 +1,21 @@
+# Shared shell helpers for the scripts in this folder (sourced, not run).
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# Debian's python3 and ROS tools first: the pyenv python3 on PATH has no ROS modules.
+export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+export ROS_HOME="${ROS_HOME:-$ROOT/.ws/ros_home}"
+STAMPS="$ROOT/.stamps"
+mkdir -p "$STAMPS"
+
+say() { printf '\033[1m[edge_slam]\033[0m %s\n' "$*" >&2; }
+die() { printf '[edge_slam] ERROR: %s\n' "$*" >&2; exit 1; }
+
+# Hash of the given files' contents (a stamp: redo a step only when its inputs changed).
+inputs_hash() { cat "$@" 2>/dev/null | sha256sum | cut -c1-16; }
+
+ros_env() {
+  [ -f "$ROOT/.ws/devel/setup.bash" ] || die "workspace not built: run 'make setup' first"
+  set +u
+  # shellcheck disable=SC1091
+  source "$ROOT/.ws/devel/setup.bash"
+  set -u
+}

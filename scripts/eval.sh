@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Runs the SLAM system on a TUM-format folder and adds the ATE to <OUT>/metrics.json.
+# Called by `make eval DATASET=<folder> MODE=monolithic|split OUT=<dir>`; builds nothing.
+#   runner: $EDGE_SLAM_RUN, else .ws/devel/lib/edge_slam_common/edge_slam_run
+#   ATE:    .venv/bin/evo_ape (tum <gt> <traj> -a) if present, else scripts/ate.py
+# Extra runner options can be passed in EDGE_SLAM_ARGS (e.g. "--camera config/camera_tum1.yaml").
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+DATASET="${DATASET:-bags/synthetic_room}"
+MODE="${MODE:-monolithic}"
+OUT="${OUT:-results/$(basename "$DATASET")-$MODE}"
+
+if [[ "$MODE" == "split" ]]; then
+  echo "eval: MODE=split is not yet available (the edge/mobile split is a later issue)" >&2
+  exit 2
+fi
+if [[ "$MODE" != "monolithic" ]]; then
+  echo "eval: unknown MODE '$MODE' (monolithic|split)" >&2
+  exit 1
+fi
+if [[ ! -d "$DATASET" ]]; then
+  echo "eval: dataset folder '$DATASET' not found" >&2
+  exit 1
+fi
+if [[ ! -f "$DATASET/groundtruth.txt" ]]; then
+  echo "eval: '$DATASET/groundtruth.txt' not found: cannot compute the ATE" >&2
+  exit 1
+fi
+
+RUN="${EDGE_SLAM_RUN:-.ws/devel/lib/edge_slam_common/edge_slam_run}"
+if [[ ! -x "$RUN" ]]; then
+  echo "eval: runner '$RUN' not found; build first (make build) or set EDGE_SLAM_RUN" >&2
+  exit 1
+fi
+
+mkdir -p "$OUT"
+# shellcheck disable=SC2086
+"$RUN" --dataset "$DATASET" --out "$OUT" ${EDGE_SLAM_ARGS:-}
+
+TRAJ="$OUT/trajectory.txt"
+if [[ $(grep -vc '^#' "$TRAJ" || true) -lt 3 ]]; then
+  echo "eval: fewer than 3 tracked poses in $TRAJ: no ATE" >&2
+  exit 1
+fi
+
+if [[ -x .venv/bin/evo_ape ]]; then
+  ATE_JSON=$(.venv/bin/python3 - "$DATASET/groundtruth.txt" "$TRAJ" <<'PY'
+import json, subprocess, sys, tempfile, os, zipfile
+gt, traj = sys.argv[1], sys.argv[2]
+with tempfile.TemporaryDirectory() as d:
+    z = os.path.join(d, "ape.zip")
+    subprocess.run([os.path.join(".venv", "bin", "evo_ape"), "tum", gt, traj, "-a",
+                    "--save_results", z, "--no_warnings"], check=True, stdout=sys.stderr)
+    with zipfile.ZipFile(z) as f:
+        stats = json.loads(f.read("stats.json"))
+print(json.dumps({"ate_rmse_m": stats["rmse"], "ate_mean_m": stats["mean"],
+                  "ate_median_m": stats["median"], "ate_std_m": stats["std"],
+                  "ate_max_m": stats["max"], "ate_tool": "evo_ape tum -a"}))
+PY
+)
+else
+  ATE_JSON=$(/usr/bin/python3 scripts/ate.py "$DATASET/groundtruth.txt" "$TRAJ" --json)
+fi
+
+/usr/bin/python3 - "$OUT/metrics.json" "$ATE_JSON" <<'PY'
+import json, sys
+path, ate = sys.argv[1], json.loads(sys.argv[2])
+with open(path) as f:
+    m = json.load(f)
+m.update(ate)
+with open(path, "w") as f:
+    json.dump(m, f, indent=2)
+    f.write("\n")
+print(f"ATE RMSE {ate['ate_rmse_m'] * 100:.2f} cm ({ate['ate_tool']}), "
+      f"frames tracked {m['frames_tracked']}/{m['frames']}, "
+      f"tracking median {m['tracking_ms']['median']:.1f} ms -> {path}")
+PY

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# The test command: makes sure everything is set up (idempotent), then runs every unit test
+# (gtest), Python test and rostest integration test through catkin, and ends with the summary
+# line "N passed, N failed". Exit status is non-zero on any failure.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+cd "$ROOT"
+bash scripts/setup.sh
+ros_env
+RESULTS="$ROOT/.ws/build/test_results"
+rm -rf "$RESULTS"
+say "running unit and integration tests (catkin_make run_tests)"
+set +e
+(cd "$ROOT/.ws" && catkin_make run_tests -j"${BUILD_JOBS:-2}" -DCMAKE_BUILD_TYPE=Release \
+   -DPYTHON_EXECUTABLE=/usr/bin/python3) > "$STAMPS/run_tests.log" 2>&1
+run_rc=$?
+set -e
+grep -E "^\[ *(RUN|  +OK|  FAILED|  PASSED) |^\[ (PASSED|FAILED) \]|^\[ROSTEST\]|^\[ROSUNIT\]|FAILURE|ERROR:" \
+  "$STAMPS/run_tests.log" | grep -v "^\[ RUN" || true
+summary=$(catkin_test_results --verbose "$RESULTS" 2>&1) ; results_rc=$?
+echo "$summary" | grep -vE "^Skipping" | tail -30
+line=$(echo "$summary" | grep -E "^Summary: " | tail -1)
+tests=$(echo "$line" | sed -E 's/.* ([0-9]+) tests.*/\1/')
+errors=$(echo "$line" | sed -E 's/.* ([0-9]+) errors.*/\1/')
+failures=$(echo "$line" | sed -E 's/.* ([0-9]+) failures.*/\1/')
+skipped=$(echo "$line" | sed -E 's/.* ([0-9]+) skipped.*/\1/')
+[ -n "$line" ] || { tail -40 "$STAMPS/run_tests.log"; echo "0 passed, 1 failed"; exit 1; }
+failed=$((errors + failures))
+passed=$((tests - failed - skipped))
+if [ $run_rc -ne 0 ]; then
+  tail -40 "$STAMPS/run_tests.log"
+  say "catkin_make run_tests exited with $run_rc (build or test-harness failure)"
+  failed=$((failed + 1))
+fi
+echo "${passed} passed, ${failed} failed, ${skipped} skipped"
+[ $failed -eq 0 ] && [ $results_rc -eq 0 ]
