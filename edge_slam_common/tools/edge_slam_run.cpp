@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
     if (!m) throw std::runtime_error("cannot write '" + out_dir + "/metrics.json'");
     std::cout << "frames " << n << ", tracked " << c.frames_tracked << ", lost " << c.times_lost
               << " times, relocalized " << c.relocalizations << ", keyframes " << map->num_keyframes()
-              << ", map points " << map->num_map_points() << ", tracking ms median " << std::setprecision(1)
+              << ", map points " << map->num_map_points() << ", tracking ms median " << std::fixed << std::setprecision(1)
               << t.median << " p95 " << t.p95 << " max " << t.max << "\n"
               << "wrote " << out_dir << "/{trajectory.txt,keyframes.txt,metrics.json}\n";
   } catch (const std::exception& e) {

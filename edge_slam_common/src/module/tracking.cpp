@@ -202,7 +202,9 @@ bool Tracking::track_with_motion_model(Frame& frame) {
   }
   if (n < kMinMotionMatches) return false;
   if (optimize_frame_pose(frame) < 0) return false;
-  return discard_outliers(frame) >= kMinMapMatchesAfterPose;
+  const int kept = discard_outliers(frame);
+  if (getenv("ES_DEBUG")) fprintf(stderr, "  motion: matches %d kept %d\n", n, kept);
+  return kept >= kMinMapMatchesAfterPose;
 }
 
 bool Tracking::track_reference_keyframe(Frame& frame) {
@@ -248,7 +250,8 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
   if (projected.empty()) return;
   const bool just_relocalized = relocalized_before_ && frame.id < last_relocalization_frame_id_ + 2;
   const OrbMatcher matcher(0.8f, true);
-  matcher.search_by_projection(frame, projected, just_relocalized ? 5.f : kLocalMapWindow);
+  const int found = matcher.search_by_projection(frame, projected, just_relocalized ? 5.f : kLocalMapWindow);
+  if (getenv("ES_DEBUG")) fprintf(stderr, "  local: kfs %zu points %zu in_frame %zu projected %zu found %d\n", local.keyframes.size(), local.points.size(), in_frame.size(), projected.size(), found);
 }
 
 bool Tracking::track_local_map(Frame& frame, int& inliers) {
@@ -285,7 +288,8 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
   in.last_keyframe_frame_id = last_keyframe_frame_id_;
   in.mapper_idle = mapper_idle_;
   in.tracked_points = inliers;
-  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, n_kfs <= 2 ? 2 : 3);
+  const int min_obs = std::min(params_.reference_min_observations, n_kfs <= 2 ? 2 : 1000);
+  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, min_obs);
   const FrameFeatures& f = frame.feat();
   for (size_t i = 0; i < frame.size(); ++i) {
     if (!f.is_close(i)) continue;

@@ -29,6 +29,8 @@ TrackingParams load_tracking_params(const ConfigMap& cfg) {
   p.min_inliers = cfg.get_int_or("tracking/min_inliers", p.min_inliers, 3, 100000);
   p.min_inliers_after_relocalization = cfg.get_int_or(
       "tracking/min_inliers_after_relocalization", p.min_inliers_after_relocalization, 3, 100000);
+  p.reference_min_observations =
+      cfg.get_int_or("tracking/reference_min_observations", p.reference_min_observations, 1, 1000);
   p.max_local_keyframes = cfg.get_int_or("tracking/max_local_keyframes", p.max_local_keyframes, 1, 100000);
   return p;
 }
