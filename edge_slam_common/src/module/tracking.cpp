@@ -202,9 +202,7 @@ bool Tracking::track_with_motion_model(Frame& frame) {
   }
   if (n < kMinMotionMatches) return false;
   if (optimize_frame_pose(frame) < 0) return false;
-  const int kept = discard_outliers(frame);
-  if (getenv("ES_DEBUG")) fprintf(stderr, "  motion: matches %d kept %d\n", n, kept);
-  return kept >= kMinMapMatchesAfterPose;
+  return discard_outliers(frame) >= kMinMapMatchesAfterPose;
 }
 
 bool Tracking::track_reference_keyframe(Frame& frame) {
@@ -250,8 +248,7 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
   if (projected.empty()) return;
   const bool just_relocalized = relocalized_before_ && frame.id < last_relocalization_frame_id_ + 2;
   const OrbMatcher matcher(0.8f, true);
-  const int found = matcher.search_by_projection(frame, projected, just_relocalized ? 5.f : kLocalMapWindow);
-  if (getenv("ES_DEBUG")) fprintf(stderr, "  local: kfs %zu points %zu in_frame %zu projected %zu found %d\n", local.keyframes.size(), local.points.size(), in_frame.size(), projected.size(), found);
+  matcher.search_by_projection(frame, projected, just_relocalized ? 5.f : kLocalMapWindow);
 }
 
 bool Tracking::track_local_map(Frame& frame, int& inliers) {
