@@ -130,7 +130,9 @@ TEST(Tracking, RecoversKnownMotionOnRenderedScene) {
     const double r_err = Eigen::AngleAxisd(T_wc.rotation().transpose() * true_pose(i).rotation()).angle();
     EXPECT_LT(t_err, 0.01) << "frame " << i;  // depth is sampled at whole pixels: ~mm errors
     EXPECT_LT(r_err, 0.2 * M_PI / 180) << "frame " << i;
-    if (i > 0) EXPECT_GE(r.inliers, 100) << "frame " << i;
+    if (i > 0) {
+      EXPECT_GE(r.inliers, 100) << "frame " << i;
+    }
   }
   EXPECT_GE(keyframes, 1);
   EXPECT_EQ(tracking->counters().frames_tracked, n);

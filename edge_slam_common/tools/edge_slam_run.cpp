@@ -82,7 +82,17 @@ int main(int argc, char** argv) {
     const ConfigMap cfg = ConfigMap::load(config_path);
     const OrbParams orb = load_orb_params(cfg);
     const TrackingParams tracking_params = load_tracking_params(cfg);
-    const int max_frames = args.count("max-frames") ? std::stoi(args["max-frames"]) : -1;
+    int max_frames = -1;
+    if (args.count("max-frames")) {
+      size_t used = 0;
+      try {
+        max_frames = std::stoi(args["max-frames"], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != args["max-frames"].size() || max_frames < 0)
+        throw std::runtime_error("--max-frames expects a non-negative integer, got '" + args["max-frames"] + "'");
+    }
 
     std::string vocab_path = args.count("vocabulary") ? args["vocabulary"] : cfg.get_string("vocabulary/path", "");
     if (vocab_path.empty()) throw std::runtime_error("no vocabulary given (--vocabulary or vocabulary/path in " + config_path + ")");
@@ -128,6 +138,7 @@ int main(int argc, char** argv) {
     write_keyframes(out_dir + "/keyframes.txt", *map);
     const TrackingCounters& c = tracking.counters();
     const TimingStats t = summarize_times(tracking.frame_times_ms());
+    const TimingStats cpu = summarize_times(tracking.frame_cpu_times_ms());
     std::ofstream m(out_dir + "/metrics.json");
     m << std::fixed << std::setprecision(3) << "{\n"
       << "  \"mode\": \"monolithic\",\n"
@@ -140,13 +151,16 @@ int main(int argc, char** argv) {
       << "  \"keyframes\": " << map->num_keyframes() << ",\n"
       << "  \"map_points\": " << map->num_map_points() << ",\n"
       << "  \"tracking_ms\": {\"mean\": " << t.mean << ", \"median\": " << t.median << ", \"p95\": " << t.p95
-      << ", \"max\": " << t.max << "}\n"
+      << ", \"max\": " << t.max << "},\n"
+      << "  \"tracking_cpu_ms\": {\"mean\": " << cpu.mean << ", \"median\": " << cpu.median << ", \"p95\": " << cpu.p95
+      << ", \"max\": " << cpu.max << "}\n"
       << "}\n";
     if (!m) throw std::runtime_error("cannot write '" + out_dir + "/metrics.json'");
     std::cout << "frames " << n << ", tracked " << c.frames_tracked << ", lost " << c.times_lost
               << " times, relocalized " << c.relocalizations << ", keyframes " << map->num_keyframes()
               << ", map points " << map->num_map_points() << ", tracking ms median " << std::fixed << std::setprecision(1)
-              << t.median << " p95 " << t.p95 << " max " << t.max << "\n"
+              << t.median << " p95 " << t.p95 << " max " << t.max << " (cpu median " << cpu.median << " p95 " << cpu.p95
+              << ")\n"
               << "wrote " << out_dir << "/{trajectory.txt,keyframes.txt,metrics.json}\n";
   } catch (const std::exception& e) {
     std::cerr << "edge_slam_run: error: " << e.what() << "\n";

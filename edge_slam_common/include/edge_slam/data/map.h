@@ -22,6 +22,8 @@ class Map {
 
   std::shared_ptr<KeyFrame> keyframe(uint32_t id) const;    // null if absent
   std::shared_ptr<MapPoint> map_point(uint32_t id) const;   // null if absent
+  // Resolves many ids under one lock (null where absent): out[i] = map_point(ids[i]).
+  std::vector<std::shared_ptr<MapPoint>> map_points(const std::vector<uint32_t>& ids) const;
   std::vector<std::shared_ptr<KeyFrame>> keyframes() const;   // sorted by id
   std::vector<std::shared_ptr<MapPoint>> map_points() const;  // sorted by id
   size_t num_keyframes() const;
