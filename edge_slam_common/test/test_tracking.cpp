@@ -5,6 +5,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/feature/orb_extractor.h"
 #include "edge_slam/feature/synthetic_texture.h"
 #include "edge_slam/module/tracking.h"
 
@@ -171,4 +173,48 @@ TEST(Tracking, BadInputIsReportedNotFatal) {
   EXPECT_EQ(r.state, TrackingState::kLost);
   EXPECT_EQ(tracking->counters().times_lost, 1);
   EXPECT_EQ(tracking->counters().rejected_inputs, 1);
+}
+
+TEST(Tracking, RelocalizesAfterBeingLost) {
+  const Renderer renderer;
+  // A small vocabulary trained on the rendered views themselves.
+  std::vector<cv::Mat> colors(12), depths(12), descriptors;
+  const OrbExtractor orb;
+  for (int i = 0; i < 12; ++i) {
+    renderer.render(true_pose(i), colors[i], depths[i]);
+    if (i % 3 == 0) {
+      cv::Mat gray, desc;
+      std::vector<cv::KeyPoint> keys;
+      cv::cvtColor(colors[i], gray, cv::COLOR_BGR2GRAY);
+      orb.extract(gray, keys, desc);
+      descriptors.push_back(desc);
+    }
+  }
+  auto vocabulary = std::make_shared<BowVocabulary>();
+  VocabularyParams vp;
+  vp.branching = 8;
+  vp.levels = 3;
+  vocabulary->train(descriptors, vp);
+
+  auto map = std::make_shared<Map>();
+  auto database = std::make_shared<KeyFrameDatabase>();
+  Tracking tracking(camera(), OrbParams(), TrackingParams(), map, database, vocabulary);
+  for (int i = 0; i < 12; ++i) ASSERT_TRUE(tracking.track_rgbd(colors[i], depths[i], i / 30.0).pose_valid);
+  EXPECT_GE(database->size(), 1u);
+
+  TrackingResult r = tracking.track_rgbd(cv::Mat(480, 640, CV_8UC3, cv::Scalar(50, 50, 50)),
+                                         cv::Mat(480, 640, CV_32FC1, cv::Scalar(1.f)), 1.0);
+  ASSERT_EQ(r.state, TrackingState::kLost);
+  // Back at an earlier view: relocalized against the keyframes, with the right pose.
+  r = tracking.track_rgbd(colors[2], depths[2], 1.1);
+  ASSERT_TRUE(r.pose_valid) << r.message;
+  EXPECT_TRUE(r.relocalized);
+  EXPECT_EQ(r.state, TrackingState::kOk);
+  EXPECT_GE(r.inliers, 50);
+  const Eigen::Isometry3d T_wc = r.T_cw.inverse();
+  EXPECT_LT((T_wc.translation() - true_pose(2).translation()).norm(), 0.01);
+  EXPECT_EQ(tracking.counters().relocalizations, 1);
+  // And keeps tracking afterwards.
+  r = tracking.track_rgbd(colors[3], depths[3], 1.2);
+  EXPECT_TRUE(r.pose_valid) << r.message;
 }

@@ -31,7 +31,8 @@ class Map {
 
   void clear();
   // Replaces the content with the given keyframes and map points and re-links them in
-  // linear time: map point observations are rebuilt from the keyframes' map point ids
+  // time linear in keyframes + observations (plus sorting the keyframes by id, so the
+  // spanning tree does not depend on the list order): map point observations are rebuilt from the keyframes' map point ids
   // (ids of absent points are dropped), covisibility is recomputed, spanning tree parents
   // are kept when the parent is present (recomputed otherwise) and children re-derived.
   void rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
