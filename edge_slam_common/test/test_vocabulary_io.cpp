@@ -181,6 +181,19 @@ TEST(VocabularyIo, HandWrittenOrbSlamTextVocabulary) {
   EXPECT_EQ(features, expected);
 }
 
+TEST(VocabularyIo, TextWithDbow2HeaderSpacingAndCrlfLineEndsLoads) {
+  TempDir dir;
+  // DBoW2 writes "k L  scoring weighting" with a double space; files edited on Windows get CRLF.
+  std::string text = tiny_text_vocabulary();
+  text.replace(0, 8, "2 2  0 0\n");
+  std::string crlf;
+  for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  write_bytes(dir.file("plain.txt"), tiny_text_vocabulary());
+  write_bytes(dir.file("crlf.txt"), crlf);
+  expect_same_transforms(load_vocabulary(dir.file("plain.txt")), load_vocabulary(dir.file("crlf.txt")),
+                         {descriptor_rows({0x00, 0x0F, 0xFF, 0xF8, 0x3C})});
+}
+
 TEST(VocabularyIo, DepthFirstNodeOrderIsKeptLikeOrbSlam) {
   TempDir dir;
   // DBoW2 creates all children of a node together, then recurses depth-first, so node 3's
@@ -319,4 +332,32 @@ TEST(VocabularyIo, UnreadableOrForeignFilesAreRejected) {
   write_bytes(dir.file("image.png"), "\x89PNG\r\n");
   expect_load_error(dir.file("image.png"), "unknown format");
   EXPECT_THROW(save_vocabulary_binary(BowVocabulary(), dir.file("empty.bin")), std::runtime_error);
+}
+
+TEST(VocabularyIo, EveryTruncationOrByteFlipFailsCleanlyOrLoadsAValidTree) {
+  TempDir dir;
+  save_vocabulary_text(small_trained_vocabulary(clustered_images(4, 60, 6)), dir.file("good.txt"));
+  save_vocabulary_binary(load_vocabulary(dir.file("good.txt")), dir.file("good.bin"));
+  const cv::Mat probe = clustered_images(1, 50, 7)[0];
+  for (const std::string name : {"good.txt", "good.bin"}) {
+    const std::string good = read_bytes(dir.file(name));
+    std::mt19937 rng(8);
+    for (size_t cut = 0; cut < good.size(); cut += 1 + rng() % 499) {
+      std::string damaged = good.substr(0, cut);
+      if (rng() % 2) {  // also flip a byte somewhere before the cut
+        if (cut > 0) damaged[rng() % cut] ^= static_cast<char>(1 + rng() % 255);
+      }
+      write_bytes(dir.file("damaged"), damaged);
+      try {
+        const BowVocabulary v = load_vocabulary(dir.file("damaged"));
+        // Whatever loaded must be a usable tree.
+        BowVector bow;
+        FeatureVector features;
+        v.transform(probe, bow, features, 2);
+        for (const auto& e : bow) EXPECT_LT(e.first, v.size());
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(dir.file("damaged")), std::string::npos) << e.what();
+      }
+    }
+  }
 }

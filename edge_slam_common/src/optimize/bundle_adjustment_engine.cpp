@@ -35,14 +35,6 @@ class AbortCallback : public ceres::IterationCallback {
   bool raised_ = false;
 };
 
-// One observation resolved to its keyframe and point slots.
-struct Link {
-  size_t observation;
-  size_t keyframe;
-  size_t point;
-  PixelMeasurement measurement;
-};
-
 BundleAdjustmentResult failure(const BundleAdjustmentProblem& problem, const std::string& why) {
   BundleAdjustmentResult r;
   r.ok = false;
@@ -57,200 +49,243 @@ bool measurement_is_finite(const BaObservation& o) {
          o.inv_sigma2 > 0.0;
 }
 
-}  // namespace
+// The problem resolved into parameter blocks and observation links, plus the Ceres objects the
+// per-pass problems borrow: a pass rebuilds its ceres::Problem without re-creating 10^4
+// autodiff cost functions.
+class BundleAdjuster {
+ public:
+  BundleAdjuster(const BundleAdjustmentProblem& problem, const BaRunConfig& config)
+      : problem_(problem), config_(config), abort_callback_(config.abort) {}
 
-BundleAdjustmentResult run_bundle_adjustment(const BundleAdjustmentProblem& problem,
-                                             const BaRunConfig& config) {
-  const PinholeCamera& cam = problem.camera;
-
-  // ---- index keyframes and points, validate ----
-  std::unordered_map<uint32_t, size_t> kf_slot, point_slot;
-  for (size_t i = 0; i < problem.keyframes.size(); ++i) {
-    if (!kf_slot.emplace(problem.keyframes[i].id, i).second) {
-      return failure(problem, "duplicate keyframe id " + std::to_string(problem.keyframes[i].id));
-    }
-    if (!is_finite_isometry(problem.keyframes[i].T_cw)) {
-      return failure(problem, "keyframe " + std::to_string(problem.keyframes[i].id) + " has a non-finite pose");
-    }
-  }
-  for (size_t i = 0; i < problem.points.size(); ++i) {
-    if (!point_slot.emplace(problem.points[i].id, i).second) {
-      return failure(problem, "duplicate point id " + std::to_string(problem.points[i].id));
-    }
-  }
-
-  std::vector<bool> kf_fixed(problem.keyframes.size());
-  bool any_fixed = false;
-  for (size_t i = 0; i < problem.keyframes.size(); ++i) {
-    kf_fixed[i] = problem.keyframes[i].fixed;
-    any_fixed = any_fixed || kf_fixed[i];
-  }
-  if (!any_fixed && config.fix_smallest_id_if_none_fixed && !problem.keyframes.empty()) {
-    const auto first = std::min_element(problem.keyframes.begin(), problem.keyframes.end(),
-                                        [](const BaKeyFrame& a, const BaKeyFrame& b) { return a.id < b.id; });
-    kf_fixed[static_cast<size_t>(first - problem.keyframes.begin())] = true;
-  }
-  if (std::all_of(kf_fixed.begin(), kf_fixed.end(), [](bool f) { return f; })) {
-    return failure(problem, "no free keyframe");
-  }
-
-  std::vector<PoseParameters> poses(problem.keyframes.size());
-  for (size_t i = 0; i < poses.size(); ++i) poses[i] = PoseParameters::from_isometry(problem.keyframes[i].T_cw);
-  std::vector<Eigen::Vector3d> points(problem.points.size());
-  for (size_t i = 0; i < points.size(); ++i) points[i] = problem.points[i].position;
-
-  std::vector<Link> links;
-  std::vector<size_t> unusable;  // reported as outliers: their data cannot be evaluated
-  size_t unknown = 0;
-  for (size_t i = 0; i < problem.observations.size(); ++i) {
-    const BaObservation& o = problem.observations[i];
-    const auto kf = kf_slot.find(o.keyframe_id);
-    const auto pt = point_slot.find(o.point_id);
-    if (kf == kf_slot.end() || pt == point_slot.end()) {
-      ++unknown;
-      continue;
-    }
-    if (!measurement_is_finite(o) || !points[pt->second].allFinite()) {
-      unusable.push_back(i);
-      continue;
-    }
-    links.push_back(Link{i, kf->second, pt->second, PixelMeasurement{o.pixel, o.right_x, o.inv_sigma2}});
-  }
-
-  auto check = [&](const Link& l) {
-    return evaluate_reprojection(cam, l.measurement, poses[l.keyframe].quaternion(),
-                                 poses[l.keyframe].translation(), points[l.point]);
-  };
-  // Points behind a camera at the start cannot be evaluated by the residuals at all.
-  std::vector<bool> active(links.size());
-  size_t num_active = 0;
-  for (size_t k = 0; k < links.size(); ++k) {
-    active[k] = check(links[k]).depth > kMinDepth;
-    num_active += active[k] ? 1 : 0;
-  }
-  if (num_active == 0) return failure(problem, "no usable observation");
-
-  const std::vector<PoseParameters> initial_poses = poses;
-  const std::vector<Eigen::Vector3d> initial_points = points;
-
-  // Cost functions, losses and the manifold outlive the per-pass ceres::Problem, which only
-  // borrows them: a pass rebuilds the problem without re-creating 10^4 autodiff objects.
-  std::vector<std::unique_ptr<ceres::CostFunction>> costs(links.size());
-  for (size_t k = 0; k < links.size(); ++k) costs[k].reset(make_reprojection_cost(cam, links[k].measurement));
-  ceres::HuberLoss huber_mono(std::sqrt(kChi2Mono)), huber_stereo(std::sqrt(kChi2Stereo));
-  ceres::EigenQuaternionManifold quaternion_manifold;
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-
-  int num_free_keyframes = 0;
-  for (bool f : kf_fixed) num_free_keyframes += f ? 0 : 1;
-  ceres::Solver::Options solver_options;
-  // The reduced camera system is small for local windows: dense beats sparse factorisation there.
-  solver_options.linear_solver_type =
-      num_free_keyframes <= kMaxKeyframesForDenseSchur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
-  solver_options.logging_type = ceres::SILENT;
-  solver_options.minimizer_progress_to_stdout = false;
-  solver_options.num_threads = std::max(1, config.num_threads);
-  AbortCallback abort_callback(config.abort);
-  solver_options.callbacks.push_back(&abort_callback);
-
-  BundleAdjustmentResult result;
-  for (size_t pass = 0; pass < config.passes.size(); ++pass) {
-    if (pass > 0 && config.abort != nullptr && config.abort->load()) {
-      result.aborted = true;
-      break;
-    }
-    if (pass > 0 && config.drop_outliers_between_passes) {
-      for (size_t k = 0; k < links.size(); ++k) {
-        active[k] = active[k] && !is_reprojection_outlier(check(links[k]), links[k].measurement);
+  BundleAdjustmentResult run() {
+    std::string why;
+    if (!index(&why)) return failure(problem_, why);
+    prepare_solver();
+    BundleAdjustmentResult result;
+    for (size_t pass = 0; pass < config_.passes.size(); ++pass) {
+      if (pass > 0 && config_.abort != nullptr && config_.abort->load()) {
+        result.aborted = true;
+        break;
+      }
+      if (pass > 0 && config_.drop_outliers_between_passes) drop_outliers();
+      const PassOutcome outcome = run_pass(config_.passes[pass], &result.iterations, &why);
+      if (outcome == PassOutcome::kFailed) return failure(problem_, why);
+      if (outcome == PassOutcome::kNothingToDo) {
+        if (pass == 0) return failure(problem_, why);
+        break;
+      }
+      if (abort_callback_.raised()) {
+        result.aborted = true;
+        break;
       }
     }
-    ceres::Problem ceres_problem(problem_options);
+    finish(&result);
+    return result;
+  }
+
+ private:
+  enum class PassOutcome { kSolved, kNothingToDo, kFailed };
+
+  // One observation resolved to its keyframe and point slots.
+  struct Link {
+    size_t observation;
+    size_t keyframe;
+    size_t point;
+    PixelMeasurement measurement;
+  };
+
+  ReprojectionCheck check(const Link& l) const {
+    return evaluate_reprojection(problem_.camera, l.measurement, poses_[l.keyframe].quaternion(),
+                                 poses_[l.keyframe].translation(), points_[l.point]);
+  }
+
+  bool index(std::string* why) {
+    std::unordered_map<uint32_t, size_t> kf_slot, point_slot;
+    for (size_t i = 0; i < problem_.keyframes.size(); ++i) {
+      const BaKeyFrame& kf = problem_.keyframes[i];
+      if (!kf_slot.emplace(kf.id, i).second) return (*why = "duplicate keyframe id " + std::to_string(kf.id), false);
+      if (!is_finite_isometry(kf.T_cw)) return (*why = "keyframe " + std::to_string(kf.id) + " has a non-finite pose", false);
+    }
+    for (size_t i = 0; i < problem_.points.size(); ++i) {
+      if (!point_slot.emplace(problem_.points[i].id, i).second) {
+        return (*why = "duplicate point id " + std::to_string(problem_.points[i].id), false);
+      }
+    }
+    if (!choose_fixed_keyframes()) return (*why = "no free keyframe", false);
+
+    for (const BaKeyFrame& kf : problem_.keyframes) poses_.push_back(PoseParameters::from_isometry(kf.T_cw));
+    for (const BaPoint& p : problem_.points) points_.push_back(p.position);
+    initial_poses_ = poses_;
+    initial_points_ = points_;
+
+    for (size_t i = 0; i < problem_.observations.size(); ++i) {
+      const BaObservation& o = problem_.observations[i];
+      const auto kf = kf_slot.find(o.keyframe_id);
+      const auto pt = point_slot.find(o.point_id);
+      if (kf == kf_slot.end() || pt == point_slot.end()) {
+        ++num_unknown_;
+        continue;
+      }
+      if (!measurement_is_finite(o) || !points_[pt->second].allFinite()) {
+        unusable_.push_back(i);
+        continue;
+      }
+      links_.push_back(Link{i, kf->second, pt->second, PixelMeasurement{o.pixel, o.right_x, o.inv_sigma2}});
+    }
+    // Points behind a camera at the start cannot be evaluated by the residuals at all.
+    active_.resize(links_.size());
+    bool any_active = false;
+    for (size_t k = 0; k < links_.size(); ++k) {
+      active_[k] = check(links_[k]).depth > kMinDepth;
+      any_active = any_active || active_[k];
+    }
+    if (!any_active) return (*why = "no usable observation", false);
+    return true;
+  }
+
+  // Flags from the problem, plus the smallest id as gauge when asked; false if none is free.
+  bool choose_fixed_keyframes() {
+    const auto& kfs = problem_.keyframes;
+    kf_fixed_.resize(kfs.size());
+    for (size_t i = 0; i < kfs.size(); ++i) kf_fixed_[i] = kfs[i].fixed;
+    const bool any_fixed = std::any_of(kf_fixed_.begin(), kf_fixed_.end(), [](bool f) { return f; });
+    if (!any_fixed && config_.fix_smallest_id_if_none_fixed && !kfs.empty()) {
+      const auto first = std::min_element(kfs.begin(), kfs.end(),
+                                          [](const BaKeyFrame& a, const BaKeyFrame& b) { return a.id < b.id; });
+      kf_fixed_[static_cast<size_t>(first - kfs.begin())] = true;
+    }
+    num_free_keyframes_ = static_cast<int>(std::count(kf_fixed_.begin(), kf_fixed_.end(), false));
+    return num_free_keyframes_ > 0;
+  }
+
+  void prepare_solver() {
+    costs_.resize(links_.size());
+    for (size_t k = 0; k < links_.size(); ++k) costs_[k].reset(make_reprojection_cost(problem_.camera, links_[k].measurement));
+    problem_options_.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_options_.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_options_.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    // The reduced camera system is small for local windows: dense beats sparse factorisation there.
+    solver_options_.linear_solver_type =
+        num_free_keyframes_ <= kMaxKeyframesForDenseSchur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+    solver_options_.logging_type = ceres::SILENT;
+    solver_options_.minimizer_progress_to_stdout = false;
+    solver_options_.num_threads = std::max(1, config_.num_threads);
+    solver_options_.callbacks.push_back(&abort_callback_);
+  }
+
+  void drop_outliers() {
+    for (size_t k = 0; k < links_.size(); ++k) {
+      active_[k] = active_[k] && !is_reprojection_outlier(check(links_[k]), links_[k].measurement);
+    }
+  }
+
+  PassOutcome run_pass(const BaPass& pass, int* iterations, std::string* why) {
+    ceres::Problem ceres_problem(problem_options_);
     int num_residuals = 0;
-    for (size_t k = 0; k < links.size(); ++k) {
-      if (!active[k]) continue;
-      const Link& l = links[k];
+    for (size_t k = 0; k < links_.size(); ++k) {
+      if (!active_[k]) continue;
+      const Link& l = links_[k];
       ceres::LossFunction* loss = nullptr;
-      if (config.passes[pass].robust) loss = l.measurement.is_stereo() ? &huber_stereo : &huber_mono;
-      ceres_problem.AddResidualBlock(costs[k].get(), loss, poses[l.keyframe].q, poses[l.keyframe].t,
-                                     points[l.point].data());
+      if (pass.robust) loss = l.measurement.is_stereo() ? &huber_stereo_ : &huber_mono_;
+      ceres_problem.AddResidualBlock(costs_[k].get(), loss, poses_[l.keyframe].q, poses_[l.keyframe].t,
+                                     points_[l.point].data());
       ++num_residuals;
     }
-    if (num_residuals == 0) break;
+    if (num_residuals == 0) return (*why = "no usable observation", PassOutcome::kNothingToDo);
 
     // Explicit Schur ordering (points eliminated first) spares Ceres its independent-set search.
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     int free_in_problem = 0;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      if (!ceres_problem.HasParameterBlock(poses[i].q)) continue;
-      ceres_problem.SetManifold(poses[i].q, &quaternion_manifold);
-      if (kf_fixed[i]) {
-        ceres_problem.SetParameterBlockConstant(poses[i].q);
-        ceres_problem.SetParameterBlockConstant(poses[i].t);
+    for (size_t i = 0; i < poses_.size(); ++i) {
+      if (!ceres_problem.HasParameterBlock(poses_[i].q)) continue;
+      ceres_problem.SetManifold(poses_[i].q, &quaternion_manifold_);
+      if (kf_fixed_[i]) {
+        ceres_problem.SetParameterBlockConstant(poses_[i].q);
+        ceres_problem.SetParameterBlockConstant(poses_[i].t);
       } else {
         ++free_in_problem;
       }
-      ordering->AddElementToGroup(poses[i].q, 1);
-      ordering->AddElementToGroup(poses[i].t, 1);
+      ordering->AddElementToGroup(poses_[i].q, 1);
+      ordering->AddElementToGroup(poses_[i].t, 1);
     }
-    if (free_in_problem == 0) {
-      if (pass == 0) return failure(problem, "no free keyframe has a usable observation");
-      break;
+    if (free_in_problem == 0) return (*why = "no free keyframe has a usable observation", PassOutcome::kNothingToDo);
+    for (size_t i = 0; i < points_.size(); ++i) {
+      if (!ceres_problem.HasParameterBlock(points_[i].data())) continue;
+      if (problem_.points[i].fixed) ceres_problem.SetParameterBlockConstant(points_[i].data());
+      ordering->AddElementToGroup(points_[i].data(), 0);
     }
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (!ceres_problem.HasParameterBlock(points[i].data())) continue;
-      if (problem.points[i].fixed) ceres_problem.SetParameterBlockConstant(points[i].data());
-      ordering->AddElementToGroup(points[i].data(), 0);
-    }
-    solver_options.linear_solver_ordering = ordering;
-    solver_options.max_num_iterations = config.passes[pass].iterations;
+    solver_options_.linear_solver_ordering = ordering;
+    solver_options_.max_num_iterations = pass.iterations;
+
     ceres::Solver::Summary summary;
-    ceres::Solve(solver_options, &ceres_problem, &summary);
-    result.iterations += static_cast<int>(summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0);
+    ceres::Solve(solver_options_, &ceres_problem, &summary);
+    *iterations += summary.iterations.empty() ? 0 : static_cast<int>(summary.iterations.size()) - 1;
     bool finite = summary.IsSolutionUsable();
-    for (const auto& p : poses) finite = finite && p.is_finite();
-    for (size_t i = 0; i < points.size(); ++i) {
-      finite = finite && (points[i].allFinite() || !initial_points[i].allFinite());
+    for (const auto& p : poses_) finite = finite && p.is_finite();
+    for (size_t i = 0; i < points_.size(); ++i) {
+      finite = finite && (points_[i].allFinite() || !initial_points_[i].allFinite());
     }
-    if (!finite) return failure(problem, "ceres failed: " + summary.message);
-    if (abort_callback.raised()) {
-      result.aborted = true;
-      break;
-    }
+    if (!finite) return (*why = "ceres failed: " + summary.message, PassOutcome::kFailed);
+    return PassOutcome::kSolved;
   }
 
-  // ---- final classification and costs over the same (inlier) set ----
-  std::vector<bool> is_outlier(problem.observations.size(), false);
-  for (size_t i : unusable) is_outlier[i] = true;
-  for (const Link& l : links) {
-    if (is_reprojection_outlier(check(l), l.measurement)) is_outlier[l.observation] = true;
-  }
-  for (const Link& l : links) {
-    if (is_outlier[l.observation]) continue;
-    result.final_cost += check(l).chi2;
-    const ReprojectionCheck before = evaluate_reprojection(
-        cam, l.measurement, initial_poses[l.keyframe].quaternion(),
-        initial_poses[l.keyframe].translation(), initial_points[l.point]);
-    result.initial_cost += std::isfinite(before.chi2) ? before.chi2 : 0.0;
-  }
-  for (size_t i = 0; i < is_outlier.size(); ++i) {
-    if (is_outlier[i]) result.outlier_observations.push_back(i);
+  // Final outlier classification, costs over the same (inlier) set, and the output copy.
+  void finish(BundleAdjustmentResult* result) const {
+    std::vector<bool> is_outlier(problem_.observations.size(), false);
+    for (size_t i : unusable_) is_outlier[i] = true;
+    for (const Link& l : links_) {
+      if (is_reprojection_outlier(check(l), l.measurement)) is_outlier[l.observation] = true;
+    }
+    for (const Link& l : links_) {
+      if (is_outlier[l.observation]) continue;
+      result->final_cost += check(l).chi2;
+      const ReprojectionCheck before =
+          evaluate_reprojection(problem_.camera, l.measurement, initial_poses_[l.keyframe].quaternion(),
+                                initial_poses_[l.keyframe].translation(), initial_points_[l.point]);
+      result->initial_cost += std::isfinite(before.chi2) ? before.chi2 : 0.0;
+    }
+    for (size_t i = 0; i < is_outlier.size(); ++i) {
+      if (is_outlier[i]) result->outlier_observations.push_back(i);
+    }
+
+    result->ok = true;
+    result->keyframes = problem_.keyframes;
+    for (size_t i = 0; i < poses_.size(); ++i) {
+      if (!kf_fixed_[i]) result->keyframes[i].T_cw = poses_[i].to_isometry();  // fixed ones bit-exact
+    }
+    result->points = problem_.points;
+    for (size_t i = 0; i < points_.size(); ++i) result->points[i].position = points_[i];
+    result->message = std::to_string(result->iterations) + " iterations, " +
+                      std::to_string(result->outlier_observations.size()) + " outlier observations" +
+                      (num_unknown_ > 0 ? ", " + std::to_string(num_unknown_) + " observations with unknown ids ignored" : "") +
+                      (result->aborted ? ", aborted" : "");
   }
 
-  result.ok = true;
-  result.keyframes = problem.keyframes;
-  for (size_t i = 0; i < poses.size(); ++i) {
-    if (!kf_fixed[i]) result.keyframes[i].T_cw = poses[i].to_isometry();  // fixed ones bit-exact
-  }
-  result.points = problem.points;
-  for (size_t i = 0; i < points.size(); ++i) result.points[i].position = points[i];
-  result.message = std::to_string(result.iterations) + " iterations, " +
-                   std::to_string(result.outlier_observations.size()) + " outlier observations" +
-                   (unknown > 0 ? ", " + std::to_string(unknown) + " observations with unknown ids ignored" : "") +
-                   (result.aborted ? ", aborted" : "");
-  return result;
+  const BundleAdjustmentProblem& problem_;
+  const BaRunConfig& config_;
+  std::vector<bool> kf_fixed_;
+  int num_free_keyframes_ = 0;
+  std::vector<PoseParameters> poses_, initial_poses_;
+  std::vector<Eigen::Vector3d> points_, initial_points_;
+  std::vector<Link> links_;
+  std::vector<bool> active_;      // per link: takes part in the next pass
+  std::vector<size_t> unusable_;  // observations reported as outliers: data cannot be evaluated
+  size_t num_unknown_ = 0;        // observations naming unknown ids: ignored
+
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs_;  // per link
+  ceres::HuberLoss huber_mono_{std::sqrt(kChi2Mono)};
+  ceres::HuberLoss huber_stereo_{std::sqrt(kChi2Stereo)};
+  ceres::EigenQuaternionManifold quaternion_manifold_;
+  ceres::Problem::Options problem_options_;
+  ceres::Solver::Options solver_options_;
+  AbortCallback abort_callback_;
+};
+
+}  // namespace
+
+BundleAdjustmentResult run_bundle_adjustment(const BundleAdjustmentProblem& problem,
+                                             const BaRunConfig& config) {
+  return BundleAdjuster(problem, config).run();
 }
 
 }  // namespace optimize_detail

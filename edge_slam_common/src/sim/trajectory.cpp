@@ -62,7 +62,11 @@ double Trajectory::loop_angle(double t) const {
 
 double Trajectory::turn_yaw(double t) const {
   if (options_.turn_degrees <= 0) return 0;
-  return options_.turn_degrees * kDeg * smootherstep((t - turn_start()) / options_.turn_seconds);
+  const double away = smootherstep((t - turn_start()) / options_.turn_seconds);
+  const double back = options_.return_seconds > 0
+                          ? smootherstep((t - turn_end() - options_.hold_seconds) / options_.return_seconds)
+                          : 0.0;
+  return options_.turn_degrees * kDeg * (away - back);
 }
 
 Eigen::Isometry3d Trajectory::pose_at(double t) const {
@@ -71,10 +75,8 @@ Eigen::Isometry3d Trajectory::pose_at(double t) const {
   const Eigen::Vector3d position(options_.radius_x * std::cos(theta) + wobble(t, 0) + wobble(t, 1),
                                  options_.radius_y * std::sin(theta) + wobble(t, 2) + wobble(t, 3),
                                  options_.height + wobble(t, 4) + wobble(t, 5));
-  // Heading: outward from the room centre, lagging so that slow yaw plus the fast turn add up
-  // to exactly one turn per loop.
-  const double turn_share = options_.turn_degrees * kDeg / (2 * M_PI * options_.loops);
-  const double yaw = theta * (1.0 - turn_share) + turn_yaw(t) + (wobble(t, 6) + wobble(t, 7)) * kDeg;
+  // Heading: outward from the room centre, plus the look-away (which nets zero).
+  const double yaw = theta + turn_yaw(t) + (wobble(t, 6) + wobble(t, 7)) * kDeg;
   const double pitch = (kPitchDegrees + wobble(t, 8) + wobble(t, 9)) * kDeg;
   const double roll = (wobble(t, 10) + wobble(t, 11)) * kDeg;
 

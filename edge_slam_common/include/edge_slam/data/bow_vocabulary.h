@@ -2,6 +2,7 @@
 // A k-ary tree trained by hierarchical k-means++ with bitwise-majority centroids; the leaves
 // are the words, weighted by idf. An image becomes a TF-IDF BowVector plus a direct index
 // (FeatureVector) by descending each descriptor to its closest child at every level.
+// Const members touch no mutable state: one loaded vocabulary can serve all threads.
 #pragma once
 #include <opencv2/core.hpp>
 #include <cstddef>

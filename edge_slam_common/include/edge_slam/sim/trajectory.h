@@ -1,8 +1,10 @@
 // The synthetic hand-held camera path: loops around the room centre on an ellipse at ~1.4 m
 // height, looking outwards at the walls and furniture, with smooth periodic hand-held wobble.
-// Once, at the middle of the sequence, the walker stops and turns fast in place (~90 degrees
-// of yaw in ~0.4 s); the rest of the yaw budget is spread over the loop so that the path ends
-// exactly at its start pose (every wobble term makes an integer number of cycles).
+// Once, at the middle of the sequence, the walker stops and looks away fast in place (~90
+// degrees of yaw in ~0.4 s), holds, then turns slowly back to the heading of the loop: the
+// fast turn can make tracking fail, and the way back faces already-mapped walls so that
+// relocalization has something to find. The path ends exactly at its start pose (every
+// wobble term makes an integer number of cycles; the look-away nets zero yaw).
 #pragma once
 #include <Eigen/Geometry>
 
@@ -15,6 +17,8 @@ struct TrajectoryOptions {
   int loops = 1;
   double turn_degrees = 90.0;   // the single fast in-place turn (0 disables it)
   double turn_seconds = 0.4;    // its duration
+  double hold_seconds = 0.3;    // looking away
+  double return_seconds = 4.0;  // the slow turn back (< 2 degrees per frame at 30 fps)
   double height = 1.4;          // mean camera height above the floor (m)
   double radius_x = 2.0, radius_y = 1.2;  // loop ellipse half-axes (m)
 };
@@ -34,7 +38,7 @@ class Trajectory {
 
  private:
   double loop_angle(double t) const;  // position angle on the ellipse, 0 .. 2*pi*loops
-  double turn_yaw(double t) const;    // 0 before the fast turn, turn angle after it
+  double turn_yaw(double t) const;    // the look-away: 0, fast up to the turn angle, slowly back to 0
   double wobble(double t, int term) const;
 
   TrajectoryOptions options_;
