@@ -218,3 +218,43 @@ TEST(Tracking, RelocalizesAfterBeingLost) {
   r = tracking.track_rgbd(colors[3], depths[3], 1.2);
   EXPECT_TRUE(r.pose_valid) << r.message;
 }
+
+TEST(Tracking, KeepsTrackingAfterTheMapIsRebuiltFromCopies) {
+  const Renderer renderer;
+  auto map = std::make_shared<Map>();
+  auto tracking = make_tracking(map);
+  std::vector<cv::Mat> colors(10), depths(10);
+  for (int i = 0; i < 10; ++i) renderer.render(true_pose(i), colors[i], depths[i]);
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(tracking->track_rgbd(colors[i], depths[i], i / 30.0).pose_valid);
+  // A Local-Map update: the same content in new objects (as a deserialised update would be).
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  std::vector<std::shared_ptr<MapPoint>> mps;
+  for (const auto& kf : map->keyframes()) {
+    auto copy = std::make_shared<KeyFrame>(kf->id(), kf->frame_id(), kf->stamp(), kf->features_ptr(), kf->T_cw());
+    const auto ids = kf->map_point_ids();
+    for (size_t i = 0; i < ids.size(); ++i) copy->set_map_point_id(i, ids[i]);
+    copy->set_parent(kf->parent_id());
+    kfs.push_back(copy);
+  }
+  for (const auto& mp : map->map_points()) {
+    auto copy = std::make_shared<MapPoint>(mp->id(), mp->position(), mp->reference_kf_id());
+    copy->set_descriptor(mp->descriptor().data());
+    copy->set_normal_and_distances(mp->normal(), mp->min_distance() / 0.8f, mp->max_distance() / 1.2f);
+    mps.push_back(copy);
+  }
+  {
+    std::lock_guard<std::mutex> lock(map->update_mutex());
+    map->rebuild(kfs, mps);
+  }
+  tracking->relink_after_map_update();
+  for (const auto& mp : tracking->last_frame().map_points) {
+    if (mp) {
+      EXPECT_EQ(map->map_point(mp->id()), mp);
+    }
+  }
+  for (int i = 6; i < 10; ++i) {
+    const TrackingResult r = tracking->track_rgbd(colors[i], depths[i], i / 30.0);
+    ASSERT_TRUE(r.pose_valid) << "frame " << i << ": " << r.message;
+    EXPECT_LT((r.T_cw.inverse().translation() - true_pose(i).translation()).norm(), 0.01);
+  }
+}

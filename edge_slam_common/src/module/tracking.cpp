@@ -73,6 +73,25 @@ void Tracking::reset() {
   relocalized_before_ = false;
 }
 
+void Tracking::relink_after_map_update() {
+  std::lock_guard<std::mutex> lock(map_->update_mutex());
+  for (size_t i = 0; i < last_frame_.map_points.size(); ++i) {
+    auto& mp = last_frame_.map_points[i];
+    if (mp) mp = map_->map_point(mp->id());
+  }
+  auto relink_kf = [&](std::shared_ptr<KeyFrame>& kf) {
+    if (kf) kf = map_->keyframe(kf->id());
+  };
+  relink_kf(last_frame_.reference_kf);
+  relink_kf(reference_kf_);
+  if (!reference_kf_) {  // fall back to the newest keyframe of the new map
+    const auto kfs = map_->keyframes();
+    if (!kfs.empty()) reference_kf_ = kfs.back();
+  }
+  if (last_frame_tracked_ && last_frame_.reference_kf)
+    last_relative_to_ref_ = last_frame_.T_cw() * last_frame_.reference_kf->T_wc();
+}
+
 TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = thread_cpu_ms();

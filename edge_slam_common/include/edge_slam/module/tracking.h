@@ -83,6 +83,11 @@ class Tracking {
   const OrbExtractor& extractor() const { return extractor_; }
   // Forget everything (map and database included): back to NOT_INITIALIZED.
   void reset();
+  // After the map was cleared and rebuilt (a Local-Map update replacing the objects):
+  // re-resolves the last frame's map points and the reference keyframe by id in the new
+  // map, dropping what it no longer contains, so the motion model keeps working.
+  // Takes the map's update mutex; call it after the rebuild released it.
+  void relink_after_map_update();
 
  private:
   bool initialize(Frame& frame, std::string& why);
