@@ -35,6 +35,7 @@ class Map {
   // spanning tree does not depend on the list order): map point observations are rebuilt from the keyframes' map point ids
   // (ids of absent points are dropped), covisibility is recomputed, spanning tree parents
   // are kept when the parent is present (recomputed otherwise) and children re-derived.
+  // Callers hold update_mutex() so that tracking never sees a half-built map.
   void rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
                const std::vector<std::shared_ptr<MapPoint>>& mps);
 
