@@ -11,12 +11,13 @@
 
 #include "edge_slam/data/scale_pyramid.h"
 #include "edge_slam/feature/descriptor_distance.h"
+#include "edge_slam/util/ids.h"
 
 namespace edge_slam {
 
 class Map;
 using Descriptor = std::array<uint8_t, kDescriptorBytes>;
-constexpr uint32_t kNoId = 0xffffffffu;
+
 
 class MapPoint {
  public:
