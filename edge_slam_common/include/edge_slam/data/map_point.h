@@ -25,6 +25,14 @@ class MapPoint {
 
   uint32_t id() const { return id_; }
 
+  // Position, normal and distance range read under one lock (for projection tests).
+  struct Geometry {
+    Eigen::Vector3d position, normal;
+    float min_distance, max_distance;  // with the 0.8 / 1.2 margins, as min/max_distance()
+    float max_level0_distance;         // raw, for scale prediction
+  };
+  Geometry geometry() const;
+
   Eigen::Vector3d position() const;
   void set_position(const Eigen::Vector3d& p);
   Eigen::Vector3d normal() const;
