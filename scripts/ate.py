@@ -16,7 +16,11 @@ import numpy as np
 
 def read_tum(path):
     stamps, xyz = [], []
-    with open(path) as f:
+    try:
+        f = open(path)
+    except OSError as e:
+        sys.exit(f"ate.py: cannot read {path}: {e.strerror}")
+    with f:
         for n, line in enumerate(f, 1):
             line = line.strip()
             if not line or line.startswith('#'):

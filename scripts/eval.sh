@@ -34,9 +34,18 @@ if [[ ! -x "$RUN" ]]; then
   exit 1
 fi
 
+ARGS=(--dataset "$DATASET" --out "$OUT")
+# TUM freiburg1 folders carry no camera.yaml: use the shipped fr1 calibration.
+if [[ ! -f "$DATASET/camera.yaml" && "${EDGE_SLAM_ARGS:-}" != *--camera* ]]; then
+  case "$(basename "$DATASET")" in
+    *fr1*|*freiburg1*) echo "eval: $DATASET has no camera.yaml, using config/camera_tum1.yaml" >&2
+                       ARGS+=(--camera config/camera_tum1.yaml) ;;
+  esac
+fi
+
 mkdir -p "$OUT"
 # shellcheck disable=SC2086
-"$RUN" --dataset "$DATASET" --out "$OUT" ${EDGE_SLAM_ARGS:-}
+"$RUN" "${ARGS[@]}" ${EDGE_SLAM_ARGS:-}
 
 TRAJ="$OUT/trajectory.txt"
 if [[ $(grep -vc '^#' "$TRAJ" || true) -lt 3 ]]; then

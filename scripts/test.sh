@@ -15,10 +15,10 @@ set +e
    -DPYTHON_EXECUTABLE=/usr/bin/python3) > "$STAMPS/run_tests.log" 2>&1
 run_rc=$?
 set -e
-grep -E "^\[ *(RUN|  +OK|  FAILED|  PASSED) |^\[ (PASSED|FAILED) \]|^\[ROSTEST\]|^\[ROSUNIT\]|FAILURE|ERROR:" \
-  "$STAMPS/run_tests.log" | grep -v "^\[ RUN" || true
-summary=$(catkin_test_results --verbose "$RESULTS" 2>&1) ; results_rc=$?
-echo "$summary" | grep -vE "^Skipping" | tail -30
+# Failing gtest cases by name; catkin_test_results below lists every result file and details failures.
+grep -E "^\[  FAILED  \] [A-Za-z]" "$STAMPS/run_tests.log" | sort -u || true
+summary=$(catkin_test_results --verbose "$RESULTS" 2>&1) && results_rc=0 || results_rc=$?
+echo "$summary" | grep -vE "^Skipping"
 line=$(echo "$summary" | grep -E "^Summary: " | tail -1)
 tests=$(echo "$line" | sed -E 's/.* ([0-9]+) tests.*/\1/')
 errors=$(echo "$line" | sed -E 's/.* ([0-9]+) errors.*/\1/')

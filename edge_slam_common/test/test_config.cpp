@@ -107,4 +107,10 @@ TEST(Config, ShippedConfigsLoad) {
   EXPECT_DOUBLE_EQ(tp.keyframe.ref_ratio, 0.9);
   EXPECT_DOUBLE_EQ(slam.get_double("edge_slam/initial_time_constraint"), 0.3);
   EXPECT_EQ(slam.get_int("edge_slam/update_size"), 6);
+  EXPECT_EQ(tp.conditions, KeyFrameConditionSet::kAll);
+  ConfigMap mobile = slam;
+  mobile.set("tracking/keyframe_conditions", "mobile");
+  EXPECT_EQ(load_tracking_params(mobile).conditions, KeyFrameConditionSet::kMobile);
+  mobile.set("tracking/keyframe_conditions", "sometimes");
+  EXPECT_NE(error_of([&] { load_tracking_params(mobile); }).find("keyframe_conditions"), std::string::npos);
 }

@@ -81,3 +81,22 @@ TEST(OrbBadInput, ZeroFeaturesAndSingleLevelWork) {
   many_levels.num_levels = 32;  // coarse levels vanish: their budget is simply not met
   count_keypoints(make_synthetic_texture(cv::Size(640, 480)), many_levels);
 }
+
+TEST(OrbBadInput, AnySizeStaysInBounds) {
+  const OrbExtractor extractor;
+  const int sides[] = {1, 2, 7, 20, 38, 39, 40, 41, 46, 47, 55, 64, 100, 301};
+  for (int w : sides)
+    for (int h : sides) {
+      const cv::Mat image = make_synthetic_texture(cv::Size(w, h), static_cast<uint64_t>(w * 1000 + h));
+      std::vector<cv::KeyPoint> keypoints;
+      cv::Mat descriptors;
+      ASSERT_NO_THROW(extractor.extract(image, keypoints, descriptors)) << w << "x" << h;
+      ASSERT_EQ(descriptors.rows, static_cast<int>(keypoints.size()));
+      for (const cv::KeyPoint& kp : keypoints) {
+        EXPECT_GE(kp.pt.x, 0.0f);
+        EXPECT_GE(kp.pt.y, 0.0f);
+        EXPECT_LE(kp.pt.x, w - 1.0f);
+        EXPECT_LE(kp.pt.y, h - 1.0f);
+      }
+    }
+}

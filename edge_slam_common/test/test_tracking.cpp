@@ -5,6 +5,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/feature/orb_extractor.h"
 #include "edge_slam/feature/synthetic_texture.h"
 #include "edge_slam/module/tracking.h"
 
@@ -130,7 +132,9 @@ TEST(Tracking, RecoversKnownMotionOnRenderedScene) {
     const double r_err = Eigen::AngleAxisd(T_wc.rotation().transpose() * true_pose(i).rotation()).angle();
     EXPECT_LT(t_err, 0.01) << "frame " << i;  // depth is sampled at whole pixels: ~mm errors
     EXPECT_LT(r_err, 0.2 * M_PI / 180) << "frame " << i;
-    if (i > 0) EXPECT_GE(r.inliers, 100) << "frame " << i;
+    if (i > 0) {
+      EXPECT_GE(r.inliers, 100) << "frame " << i;
+    }
   }
   EXPECT_GE(keyframes, 1);
   EXPECT_EQ(tracking->counters().frames_tracked, n);
@@ -169,4 +173,88 @@ TEST(Tracking, BadInputIsReportedNotFatal) {
   EXPECT_EQ(r.state, TrackingState::kLost);
   EXPECT_EQ(tracking->counters().times_lost, 1);
   EXPECT_EQ(tracking->counters().rejected_inputs, 1);
+}
+
+TEST(Tracking, RelocalizesAfterBeingLost) {
+  const Renderer renderer;
+  // A small vocabulary trained on the rendered views themselves.
+  std::vector<cv::Mat> colors(12), depths(12), descriptors;
+  const OrbExtractor orb;
+  for (int i = 0; i < 12; ++i) {
+    renderer.render(true_pose(i), colors[i], depths[i]);
+    if (i % 3 == 0) {
+      cv::Mat gray, desc;
+      std::vector<cv::KeyPoint> keys;
+      cv::cvtColor(colors[i], gray, cv::COLOR_BGR2GRAY);
+      orb.extract(gray, keys, desc);
+      descriptors.push_back(desc);
+    }
+  }
+  auto vocabulary = std::make_shared<BowVocabulary>();
+  VocabularyParams vp;
+  vp.branching = 8;
+  vp.levels = 3;
+  vocabulary->train(descriptors, vp);
+
+  auto map = std::make_shared<Map>();
+  auto database = std::make_shared<KeyFrameDatabase>();
+  Tracking tracking(camera(), OrbParams(), TrackingParams(), map, database, vocabulary);
+  for (int i = 0; i < 12; ++i) ASSERT_TRUE(tracking.track_rgbd(colors[i], depths[i], i / 30.0).pose_valid);
+  EXPECT_GE(database->size(), 1u);
+
+  TrackingResult r = tracking.track_rgbd(cv::Mat(480, 640, CV_8UC3, cv::Scalar(50, 50, 50)),
+                                         cv::Mat(480, 640, CV_32FC1, cv::Scalar(1.f)), 1.0);
+  ASSERT_EQ(r.state, TrackingState::kLost);
+  // Back at an earlier view: relocalized against the keyframes, with the right pose.
+  r = tracking.track_rgbd(colors[2], depths[2], 1.1);
+  ASSERT_TRUE(r.pose_valid) << r.message;
+  EXPECT_TRUE(r.relocalized);
+  EXPECT_EQ(r.state, TrackingState::kOk);
+  EXPECT_GE(r.inliers, 50);
+  const Eigen::Isometry3d T_wc = r.T_cw.inverse();
+  EXPECT_LT((T_wc.translation() - true_pose(2).translation()).norm(), 0.01);
+  EXPECT_EQ(tracking.counters().relocalizations, 1);
+  // And keeps tracking afterwards.
+  r = tracking.track_rgbd(colors[3], depths[3], 1.2);
+  EXPECT_TRUE(r.pose_valid) << r.message;
+}
+
+TEST(Tracking, KeepsTrackingAfterTheMapIsRebuiltFromCopies) {
+  const Renderer renderer;
+  auto map = std::make_shared<Map>();
+  auto tracking = make_tracking(map);
+  std::vector<cv::Mat> colors(10), depths(10);
+  for (int i = 0; i < 10; ++i) renderer.render(true_pose(i), colors[i], depths[i]);
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(tracking->track_rgbd(colors[i], depths[i], i / 30.0).pose_valid);
+  // A Local-Map update: the same content in new objects (as a deserialised update would be).
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  std::vector<std::shared_ptr<MapPoint>> mps;
+  for (const auto& kf : map->keyframes()) {
+    auto copy = std::make_shared<KeyFrame>(kf->id(), kf->frame_id(), kf->stamp(), kf->features_ptr(), kf->T_cw());
+    const auto ids = kf->map_point_ids();
+    for (size_t i = 0; i < ids.size(); ++i) copy->set_map_point_id(i, ids[i]);
+    copy->set_parent(kf->parent_id());
+    kfs.push_back(copy);
+  }
+  for (const auto& mp : map->map_points()) {
+    auto copy = std::make_shared<MapPoint>(mp->id(), mp->position(), mp->reference_kf_id());
+    copy->set_descriptor(mp->descriptor().data());
+    copy->set_normal_and_distances(mp->normal(), mp->min_distance() / 0.8f, mp->max_distance() / 1.2f);
+    mps.push_back(copy);
+  }
+  {
+    std::lock_guard<std::mutex> lock(map->update_mutex());
+    map->rebuild(kfs, mps);
+  }
+  tracking->relink_after_map_update();
+  for (const auto& mp : tracking->last_frame().map_points) {
+    if (mp) {
+      EXPECT_EQ(map->map_point(mp->id()), mp);
+    }
+  }
+  for (int i = 6; i < 10; ++i) {
+    const TrackingResult r = tracking->track_rgbd(colors[i], depths[i], i / 30.0);
+    ASSERT_TRUE(r.pose_valid) << "frame " << i << ": " << r.message;
+    EXPECT_LT((r.T_cw.inverse().translation() - true_pose(i).translation()).norm(), 0.01);
+  }
 }

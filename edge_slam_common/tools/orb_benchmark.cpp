@@ -1,6 +1,7 @@
 // Micro-benchmark: our OrbExtractor against cv::ORB (1000 features, scale 1.2, 8 levels),
 // interleaved frame by frame in one run so both see the same machine load.
-// Usage: orb_benchmark <TUM sequence folder | image folder> [--frames N]
+// Usage: orb_benchmark <TUM sequence folder | image folder> [--frames N] [--cv-threads N]
+// --cv-threads sets OpenCV's internal thread pool (blur/resize may use it in both extractors).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -103,12 +104,20 @@ double time_ms(F&& f) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N]\n";
+    std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N] [--cv-threads N]\n";
     return 2;
   }
   size_t max_frames = 0;  // 0 = all
   for (int i = 2; i < argc; ++i) {
-    if (std::string(argv[i]) == "--frames" && i + 1 < argc) max_frames = std::stoul(argv[++i]);
+    const std::string arg = argv[i];
+    if (arg == "--frames" && i + 1 < argc) {
+      max_frames = std::stoul(argv[++i]);
+    } else if (arg == "--cv-threads" && i + 1 < argc) {
+      cv::setNumThreads(std::stoi(argv[++i]));
+    } else {
+      std::cerr << "unknown argument " << arg << "\n";
+      return 2;
+    }
   }
   std::vector<fs::path> images = list_images(argv[1]);
   if (max_frames > 0 && images.size() > max_frames) images.resize(max_frames);
@@ -149,8 +158,8 @@ int main(int argc, char** argv) {
     }
   }
   if (ours_stats.ms.empty()) return 1;
-  std::printf("%zu frames from %s (%d x %d)\n", ours_stats.ms.size(), argv[1], cv::imread(images[0].string()).cols,
-              cv::imread(images[0].string()).rows);
+  std::printf("%zu frames from %s (%d x %d), OpenCV threads %d\n", ours_stats.ms.size(), argv[1], cv::imread(images[0].string()).cols,
+              cv::imread(images[0].string()).rows, cv::getNumThreads());
   ours_stats.print("ours");
   opencv_stats.print("cv::ORB");
   std::printf("ours / cv::ORB time ratio (means): %.2f\n", mean_of(ours_stats.ms) / mean_of(opencv_stats.ms));

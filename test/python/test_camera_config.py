@@ -6,7 +6,7 @@ import unittest
 
 import yaml
 
-CONFIG = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+CONFIG = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)),
                                        '..', '..', 'config', 'camera_synthetic.yaml'))
 KEYS = {'name', 'width', 'height', 'fx', 'fy', 'cx', 'cy', 'k1', 'k2', 'p1', 'p2', 'k3', 'fps',
         'bf', 'th_depth', 'depth_factor', 'rgb_encoding'}

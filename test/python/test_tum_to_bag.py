@@ -13,7 +13,7 @@ import cv2
 import numpy as np
 import rosbag
 
-SCRIPT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+SCRIPT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)),
                                        '..', '..', 'edge_slam_common', 'scripts', 'tum_to_bag'))
 
 CAMERA_YAML = """# tiny test camera

@@ -67,13 +67,9 @@ void KeyFrame::set_map_point_id(size_t i, uint32_t mp_id) {
 void KeyFrame::erase_map_point_id(size_t i) { set_map_point_id(i, kNoId); }
 
 std::vector<std::shared_ptr<MapPoint>> KeyFrame::map_points(const Map& map) const {
-  const auto ids = map_point_ids();
-  std::vector<std::shared_ptr<MapPoint>> out(ids.size());
-  for (size_t i = 0; i < ids.size(); ++i) {
-    if (ids[i] == kNoId) continue;
-    auto mp = map.map_point(ids[i]);
-    if (mp && !mp->is_bad()) out[i] = std::move(mp);
-  }
+  auto out = map.map_points(map_point_ids());
+  for (auto& mp : out)
+    if (mp && mp->is_bad()) mp = nullptr;
   return out;
 }
 

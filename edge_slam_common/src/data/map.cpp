@@ -47,6 +47,17 @@ std::shared_ptr<MapPoint> Map::map_point(uint32_t id) const {
   const auto it = map_points_.find(id);
   return it == map_points_.end() ? nullptr : it->second;
 }
+std::vector<std::shared_ptr<MapPoint>> Map::map_points(const std::vector<uint32_t>& ids) const {
+  std::vector<std::shared_ptr<MapPoint>> out(ids.size());
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] == kNoId) continue;
+    const auto it = map_points_.find(ids[i]);
+    if (it != map_points_.end()) out[i] = it->second;
+  }
+  return out;
+}
+
 std::vector<std::shared_ptr<KeyFrame>> Map::keyframes() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return sorted_values(keyframes_);

@@ -12,6 +12,11 @@ namespace edge_slam {
 MapPoint::MapPoint(uint32_t id, const Eigen::Vector3d& position, uint32_t reference_kf_id)
     : id_(id), position_(position), reference_kf_id_(reference_kf_id) {}
 
+MapPoint::Geometry MapPoint::geometry() const {
+  std::lock_guard<std::mutex> lock(pos_mutex_);
+  return {position_, normal_, 0.8f * min_distance_, 1.2f * max_distance_, max_distance_};
+}
+
 Eigen::Vector3d MapPoint::position() const {
   std::lock_guard<std::mutex> lock(pos_mutex_);
   return position_;

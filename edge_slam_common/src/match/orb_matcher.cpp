@@ -29,22 +29,23 @@ void reject_inconsistent(const RotationHistogram& hist, Frame& frame, int& match
 bool project_into_frame(const Frame& frame, const std::shared_ptr<MapPoint>& mp, float min_view_cos,
                         ProjectedPoint& out) {
   const FrameFeatures& f = frame.feat();
-  const Eigen::Vector3d p_w = mp->position();
-  const Eigen::Vector3d p_c = frame.T_cw() * p_w;
+  const MapPoint::Geometry g = mp->geometry();
+  const Eigen::Vector3d p_c = frame.T_cw() * g.position;
   if (!(p_c.z() > 0)) return false;
   const Eigen::Vector2d uv = f.camera.project(p_c);
   if (!f.bounds.contains(static_cast<float>(uv.x()), static_cast<float>(uv.y()))) return false;
-  const Eigen::Vector3d ray = p_w - frame.camera_center();
+  // Viewing ray from the camera centre: R^T * p_c (the centre is -R^T t).
+  const Eigen::Vector3d ray = frame.T_cw().linear().transpose() * p_c;
   const double dist = ray.norm();
-  if (dist < mp->min_distance() || dist > mp->max_distance()) return false;
-  const Eigen::Vector3d n = mp->normal();
-  const double view_cos = n.norm() > 0 ? ray.dot(n) / (dist * n.norm()) : 1.0;
+  if (dist < g.min_distance || dist > g.max_distance) return false;
+  const double n_norm = g.normal.norm();
+  const double view_cos = n_norm > 0 ? ray.dot(g.normal) / (dist * n_norm) : 1.0;
   if (view_cos < min_view_cos) return false;
   out.mp = mp;
   out.u = static_cast<float>(uv.x());
   out.v = static_cast<float>(uv.y());
   out.u_right = static_cast<float>(uv.x() - f.camera.bf / p_c.z());
-  out.level = mp->predict_level(dist, *f.pyramid);
+  out.level = f.pyramid->predict_level(g.max_level0_distance, dist);
   out.view_cos = static_cast<float>(view_cos);
   return true;
 }

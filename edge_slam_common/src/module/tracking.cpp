@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
@@ -26,6 +27,13 @@ void clear_matches(Frame& frame) {
 }
 
 bool finite_pose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
+
+// CPU time of the calling thread: per-frame cost independent of other processes' load.
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 
 }  // namespace
 
@@ -65,8 +73,28 @@ void Tracking::reset() {
   relocalized_before_ = false;
 }
 
+void Tracking::relink_after_map_update() {
+  std::lock_guard<std::mutex> lock(map_->update_mutex());
+  for (size_t i = 0; i < last_frame_.map_points.size(); ++i) {
+    auto& mp = last_frame_.map_points[i];
+    if (mp) mp = map_->map_point(mp->id());
+  }
+  auto relink_kf = [&](std::shared_ptr<KeyFrame>& kf) {
+    if (kf) kf = map_->keyframe(kf->id());
+  };
+  relink_kf(last_frame_.reference_kf);
+  relink_kf(reference_kf_);
+  if (!reference_kf_) {  // fall back to the newest keyframe of the new map
+    const auto kfs = map_->keyframes();
+    if (!kfs.empty()) reference_kf_ = kfs.back();
+  }
+  if (last_frame_tracked_ && last_frame_.reference_kf)
+    last_relative_to_ref_ = last_frame_.T_cw() * last_frame_.reference_kf->T_wc();
+}
+
 TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = thread_cpu_ms();
   Frame frame;
   try {
     frame = Frame::from_rgbd(next_frame_id_++, stamp, color, depth, camera_, extractor_, encoding_);
@@ -80,12 +108,15 @@ TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, 
   }
   TrackingResult r = track_frame(std::move(frame));
   r.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  r.cpu_ms = thread_cpu_ms() - c0;
   times_ms_.back() = r.time_ms;
+  cpu_times_ms_.back() = r.cpu_ms;
   return r;
 }
 
 TrackingResult Tracking::track_frame(Frame frame) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = thread_cpu_ms();
   std::lock_guard<std::mutex> map_lock(map_->update_mutex());
   ++counters_.frames;
   next_frame_id_ = std::max(next_frame_id_, frame.id + 1);
@@ -162,7 +193,9 @@ TrackingResult Tracking::track_frame(Frame frame) {
   last_frame_tracked_ = ok;
   last_frame_ = std::move(frame);
   result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  result.cpu_ms = thread_cpu_ms() - c0;
   times_ms_.push_back(result.time_ms);
+  cpu_times_ms_.push_back(result.cpu_ms);
   return result;
 }
 
@@ -285,7 +318,8 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
   in.last_keyframe_frame_id = last_keyframe_frame_id_;
   in.mapper_idle = mapper_idle_;
   in.tracked_points = inliers;
-  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, n_kfs <= 2 ? 2 : 3);
+  const int min_obs = std::min(params_.reference_min_observations, n_kfs <= 2 ? 2 : 1000);
+  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, min_obs);
   const FrameFeatures& f = frame.feat();
   for (size_t i = 0; i < frame.size(); ++i) {
     if (!f.is_close(i)) continue;

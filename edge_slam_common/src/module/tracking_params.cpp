@@ -1,5 +1,7 @@
 #include "edge_slam/module/tracking_params.h"
 
+#include <stdexcept>
+
 namespace edge_slam {
 
 OrbParams load_orb_params(const ConfigMap& cfg) {
@@ -29,6 +31,18 @@ TrackingParams load_tracking_params(const ConfigMap& cfg) {
   p.min_inliers = cfg.get_int_or("tracking/min_inliers", p.min_inliers, 3, 100000);
   p.min_inliers_after_relocalization = cfg.get_int_or(
       "tracking/min_inliers_after_relocalization", p.min_inliers_after_relocalization, 3, 100000);
+  const std::string set = cfg.get_string("tracking/keyframe_conditions", "all");
+  if (set == "all")
+    p.conditions = KeyFrameConditionSet::kAll;
+  else if (set == "mobile")
+    p.conditions = KeyFrameConditionSet::kMobile;
+  else if (set == "edge")
+    p.conditions = KeyFrameConditionSet::kEdge;
+  else
+    throw std::runtime_error(cfg.origin() + ": key 'tracking/keyframe_conditions' has value '" + set +
+                             "', expected one of all, mobile, edge");
+  p.reference_min_observations =
+      cfg.get_int_or("tracking/reference_min_observations", p.reference_min_observations, 1, 1000);
   p.max_local_keyframes = cfg.get_int_or("tracking/max_local_keyframes", p.max_local_keyframes, 1, 100000);
   return p;
 }

@@ -22,6 +22,8 @@ class Map {
 
   std::shared_ptr<KeyFrame> keyframe(uint32_t id) const;    // null if absent
   std::shared_ptr<MapPoint> map_point(uint32_t id) const;   // null if absent
+  // Resolves many ids under one lock (null where absent): out[i] = map_point(ids[i]).
+  std::vector<std::shared_ptr<MapPoint>> map_points(const std::vector<uint32_t>& ids) const;
   std::vector<std::shared_ptr<KeyFrame>> keyframes() const;   // sorted by id
   std::vector<std::shared_ptr<MapPoint>> map_points() const;  // sorted by id
   size_t num_keyframes() const;
@@ -29,9 +31,11 @@ class Map {
 
   void clear();
   // Replaces the content with the given keyframes and map points and re-links them in
-  // linear time: map point observations are rebuilt from the keyframes' map point ids
+  // time linear in keyframes + observations (plus sorting the keyframes by id, so the
+  // spanning tree does not depend on the list order): map point observations are rebuilt from the keyframes' map point ids
   // (ids of absent points are dropped), covisibility is recomputed, spanning tree parents
   // are kept when the parent is present (recomputed otherwise) and children re-derived.
+  // Callers hold update_mutex() so that tracking never sees a half-built map.
   void rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
                const std::vector<std::shared_ptr<MapPoint>>& mps);
 

@@ -11,18 +11,27 @@
 
 #include "edge_slam/data/scale_pyramid.h"
 #include "edge_slam/feature/descriptor_distance.h"
+#include "edge_slam/util/ids.h"
 
 namespace edge_slam {
 
 class Map;
 using Descriptor = std::array<uint8_t, kDescriptorBytes>;
-constexpr uint32_t kNoId = 0xffffffffu;
+
 
 class MapPoint {
  public:
   MapPoint(uint32_t id, const Eigen::Vector3d& position, uint32_t reference_kf_id);
 
   uint32_t id() const { return id_; }
+
+  // Position, normal and distance range read under one lock (for projection tests).
+  struct Geometry {
+    Eigen::Vector3d position, normal;
+    float min_distance, max_distance;  // with the 0.8 / 1.2 margins, as min/max_distance()
+    float max_level0_distance;         // raw, for scale prediction
+  };
+  Geometry geometry() const;
 
   Eigen::Vector3d position() const;
   void set_position(const Eigen::Vector3d& p);

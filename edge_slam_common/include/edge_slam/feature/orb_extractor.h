@@ -1,6 +1,15 @@
 // ORB features as ORB-SLAM2 extracts them: FAST on a scale pyramid, spread evenly per
 // level with a quadtree, oriented by intensity centroid, described by steered BRIEF.
 //
+// Deliberate differences from ORB-SLAM2 (all our own code):
+//  - the BRIEF test table is our own (brief_pattern.cpp), so descriptors are NOT
+//    compatible with vocabularies trained on ORB-SLAM2/OpenCV descriptors (e.g. ORBvoc.txt);
+//  - FAST at the initial threshold runs once per level, the low-threshold retry per empty
+//    30x30 cell; level pixels map to full resolution as (x + 0.5) * ratio - 0.5 with the
+//    exact level size ratio (unbiased, unlike x * scale);
+//  - each level returns at most its budget (quadtree overshoot trimmed by response), and the
+//    per-level budget sums exactly to num_features.
+//
 // Thread safety: extract() is const and touches no shared mutable state, so one
 // extractor may serve several threads at once.
 #pragma once

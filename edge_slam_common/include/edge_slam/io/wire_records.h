@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
-#include <limits>
+#include "edge_slam/util/ids.h"
 #include <opencv2/core.hpp>
 #include <string>
 #include <utility>
@@ -14,7 +14,7 @@
 
 namespace edge_slam {
 
-constexpr uint32_t kNoId = std::numeric_limits<uint32_t>::max();
+
 
 // Camera reference sent with every KeyFrame/Frame: keypoints are already undistorted.
 struct CameraRecord {

@@ -40,7 +40,8 @@ struct TrackingResult {
   int inliers = 0;
   bool new_keyframe = false;
   bool relocalized = false;
-  double time_ms = 0;             // frame construction (ORB) + tracking
+  double time_ms = 0;             // wall time: frame construction (ORB) + tracking
+  double cpu_ms = 0;              // CPU time of this thread for the same work
   std::string message;            // why tracking failed / the input was rejected
 };
 
@@ -76,11 +77,17 @@ class Tracking {
 
   TrackingState state() const { return state_; }
   const TrackingCounters& counters() const { return counters_; }
-  const std::vector<double>& frame_times_ms() const { return times_ms_; }
+  const std::vector<double>& frame_times_ms() const { return times_ms_; }      // wall
+  const std::vector<double>& frame_cpu_times_ms() const { return cpu_times_ms_; }
   const Frame& last_frame() const { return last_frame_; }
   const OrbExtractor& extractor() const { return extractor_; }
   // Forget everything (map and database included): back to NOT_INITIALIZED.
   void reset();
+  // After the map was cleared and rebuilt (a Local-Map update replacing the objects):
+  // re-resolves the last frame's map points and the reference keyframe by id in the new
+  // map, dropping what it no longer contains, so the motion model keeps working.
+  // Takes the map's update mutex; call it after the rebuild released it.
+  void relink_after_map_update();
 
  private:
   bool initialize(Frame& frame, std::string& why);
@@ -116,6 +123,7 @@ class Tracking {
 
   TrackingCounters counters_;
   std::vector<double> times_ms_;
+  std::vector<double> cpu_times_ms_;
 };
 
 }  // namespace edge_slam

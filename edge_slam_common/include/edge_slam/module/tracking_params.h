@@ -14,6 +14,11 @@ struct TrackingParams {
   int min_inliers_after_relocalization = 50;
   int new_points_per_keyframe = 100;        // closest points always made into map points
   int max_local_keyframes = 80;
+  // Condition (4) counts the reference keyframe's points seen by at least this many
+  // keyframes. ORB-SLAM2 uses 3 (2 while the map has <= 2 keyframes), relying on local
+  // mapping to fuse observations; without a mapper points gain observations only from the
+  // keyframes that track them, so 2 keeps (4) meaningful.
+  int reference_min_observations = 2;
 };
 
 OrbParams load_orb_params(const ConfigMap& cfg);          // "orb:" section, defaults if absent

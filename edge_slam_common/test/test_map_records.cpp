@@ -1,0 +1,116 @@
+// Map objects -> wire records -> a rebuilt map: the Local-Map update path without ROS.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "edge_slam/io/map_records.h"
+
+namespace edge_slam {
+namespace {
+
+PinholeCamera test_camera() {
+  PinholeCamera c;
+  c.name = "test";
+  c.width = 640;
+  c.height = 480;
+  c.fx = c.fy = 525;
+  c.cx = 319.5;
+  c.cy = 239.5;
+  c.bf = 40;
+  c.th_depth = 40 * c.bf / c.fx;
+  return c;
+}
+
+// Six KeyFrames along a line; consecutive ones share map points (chain covisibility).
+struct SyntheticMap {
+  PinholeCamera camera = test_camera();
+  std::shared_ptr<const ScalePyramid> pyramid = std::make_shared<ScalePyramid>(ScalePyramid::make(8, 1.2f));
+  Map map;
+
+  SyntheticMap() {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(20, 620), v(20, 460), d(0.5f, 4.f);
+    constexpr int kPerKf = 120, kPoints = 60 * 5 + kPerKf;
+    for (uint32_t p = 0; p < kPoints; ++p)
+      map.add_map_point(std::make_shared<MapPoint>(1000 + p, Eigen::Vector3d(0.01 * p, 0.5, 2.0), 0));
+    for (uint32_t k = 0; k < 6; ++k) {
+      FeatureRecord f;
+      f.descriptors.create(kPerKf, 32, CV_8U);
+      for (int i = 0; i < kPerKf; ++i) {
+        f.keypoints.emplace_back(u(rng), v(rng), 31.f, 0.f, 0.f, i % 8);
+        f.depth.push_back(i % 7 == 0 ? -1.f : d(rng));
+        for (int b = 0; b < 32; ++b) f.descriptors.at<uint8_t>(i, b) = static_cast<uint8_t>(rng());
+      }
+      Eigen::Isometry3d T_cw = Eigen::Isometry3d::Identity();
+      T_cw.translation() = Eigen::Vector3d(-0.1 * k, 0, 0);
+      auto kf = std::make_shared<KeyFrame>(k, 10 * k, 100.0 + k,
+                                           features_from_record(f, to_camera_record(camera), camera, pyramid), T_cw);
+      // KeyFrame k sees points [60k, 60k + 120): 60 shared with each neighbour.
+      for (int i = 0; i < kPerKf; ++i) kf->set_map_point_id(i, 1000 + 60 * k + i);
+      map.add_keyframe(kf);
+    }
+    for (const auto& kf : map.keyframes()) {
+      const auto ids = kf->map_point_ids();
+      for (size_t i = 0; i < ids.size(); ++i) map.map_point(ids[i])->add_observation(kf->id(), static_cast<int>(i));
+    }
+    for (const auto& kf : map.keyframes()) kf->update_connections(map);
+  }
+
+  MapUpdateRecord update() const {
+    MapUpdateRecord u;
+    for (const auto& kf : map.keyframes()) u.keyframes.push_back(to_record(*kf, map));
+    for (const auto& mp : map.map_points())
+      if (mp->num_observations() > 0) u.points.push_back(to_record(*mp));
+    return u;
+  }
+};
+
+TEST(MapRecords, RebuildFromUpdateReproducesTheMap) {
+  SyntheticMap a;
+  Map b;
+  const RebuildStats stats = rebuild_from_update(b, a.update(), a.camera, a.pyramid, nullptr);
+  EXPECT_EQ(stats.keyframes, 6u);
+  EXPECT_EQ(stats.map_points, 420u);
+  EXPECT_EQ(stats.dropped_observations, 0u);
+  for (const auto& kf : a.map.keyframes()) {
+    const auto rebuilt = b.keyframe(kf->id());
+    ASSERT_TRUE(rebuilt);
+    EXPECT_EQ(rebuilt->connection_weights(), kf->connection_weights()) << "KF " << kf->id();
+    EXPECT_EQ(rebuilt->map_point_ids(), kf->map_point_ids());
+    EXPECT_TRUE(rebuilt->T_cw().isApprox(kf->T_cw(), 1e-12));
+    EXPECT_EQ(cv::norm(rebuilt->features().descriptors, kf->features().descriptors, cv::NORM_HAMMING), 0);
+  }
+  EXPECT_EQ(b.keyframe(2)->weight(3), 60);
+  EXPECT_EQ(b.map_point(1000 + 130)->num_observations(), 2);
+}
+
+TEST(MapRecords, NewPointsTravelInFullAndComeBackWithTheirDescriptor) {
+  SyntheticMap a;
+  const auto kf = a.map.keyframe(5);
+  std::unordered_set<uint32_t> created;
+  for (uint32_t i = 60; i < 120; ++i) created.insert(1000 + 300 + i);
+  const KeyFrameRecord r = to_record(*kf, a.map, created);
+  EXPECT_EQ(r.new_points.size(), 60u);
+  EXPECT_EQ(r.observations.size(), 60u);
+  const auto received = keyframe_from_record(r, a.camera, a.pyramid);
+  const auto mp = map_point_from_new_point(r.new_points[0], *received);
+  EXPECT_EQ(mp->reference_kf_id(), 5u);
+  const Descriptor d = mp->descriptor();
+  EXPECT_EQ(descriptor_distance(d.data(), received->features().descriptor(r.new_points[0].kp_index)), 0);
+}
+
+TEST(MapRecords, CameraMismatchIsRejectedAndLeavesTheMapUntouched) {
+  SyntheticMap a;
+  MapUpdateRecord u = a.update();
+  u.keyframes[3].camera.fx = 517.3;
+  Map b;
+  rebuild_from_update(b, a.update(), a.camera, a.pyramid, nullptr);
+  EXPECT_THROW(rebuild_from_update(b, u, a.camera, a.pyramid, nullptr), std::invalid_argument);
+  EXPECT_EQ(b.num_keyframes(), 6u);
+  u = a.update();
+  u.keyframes[1].features.keypoints[4].octave = 12;
+  EXPECT_THROW(rebuild_from_update(b, u, a.camera, a.pyramid, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace edge_slam
