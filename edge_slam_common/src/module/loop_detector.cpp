@@ -21,7 +21,12 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
     min_score = std::min(min_score, BowVocabulary::score(kf->bow(), nb->bow()));
   }
   last_min_score_ = min_score;
-  const auto candidates = database.detect_loop_candidates(kf, min_score, map);
+  // Only keyframes older than this one: tracking indexes keyframes before local mapping has
+  // linked them, so a newer one may look unconnected without being a loop.
+  auto candidates = database.detect_loop_candidates(kf, min_score, map);
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const std::shared_ptr<KeyFrame>& c) { return c->id() >= kf->id(); }),
+                   candidates.end());
   last_raw_candidates_ = candidates.size();
   if (candidates.empty()) {
     groups_.clear();
