@@ -12,7 +12,8 @@ DATASET="$DATASET" MODE=monolithic OUT="$OUT" bash scripts/eval.sh
 if [ -x .venv/bin/evo_traj ]; then
   MPLBACKEND=Agg .venv/bin/evo_traj tum "$OUT/trajectory.txt" --ref "$DATASET/groundtruth.txt" -a \
     --plot_mode xy --save_plot "$OUT/trajectory.png" > /dev/null 2>&1 || say "plotting failed (evo_traj)"
-  [ -f "$OUT/trajectory.png" ] && say "plot of the trajectory over ground truth: $OUT/trajectory.png"
+  # evo names its figures <name>_trajectories.png, <name>_xyz.png, ...
+  [ -f "$OUT/trajectory_trajectories.png" ] && say "plot of the trajectory over ground truth: $OUT/trajectory_trajectories.png"
 fi
 /usr/bin/python3 - "$OUT/metrics.json" <<'PY'
 import json, sys
