@@ -3,7 +3,7 @@
 #   make setup                       install Debian packages + venv, build, generate the default data
 #   make demo  [HEADLESS=1]          setup, then run the main demo on the embedded synthetic sequence
 #   make test                        setup, then every unit + integration test; ends "N passed, N failed"
-#   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir>
+#   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
 #   make bench DATASET=<TUM folder or bag> OUT=<dir>
 SHELL := /bin/bash
 DATASET ?= bags/synthetic_room
@@ -23,6 +23,6 @@ demo: setup
 test:
 	bash scripts/test.sh
 eval:
-	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" bash scripts/eval.sh
+	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
 bench:
 	@echo "make bench: not yet available (benchmark suite: issue 'Benchmark suite')" >&2; exit 2

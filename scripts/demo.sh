@@ -10,9 +10,11 @@ DATASET="${DATASET:-bags/synthetic_room}"
 say "running SLAM on $DATASET (monolithic: tracking on the full map)"
 DATASET="$DATASET" MODE=monolithic OUT="$OUT" bash scripts/eval.sh
 if [ -x .venv/bin/evo_traj ]; then
+  rm -f "$OUT"/trajectory_*.png   # evo refuses to overwrite without asking
   MPLBACKEND=Agg .venv/bin/evo_traj tum "$OUT/trajectory.txt" --ref "$DATASET/groundtruth.txt" -a \
-    --plot_mode xy --save_plot "$OUT/trajectory.png" > /dev/null 2>&1 || say "plotting failed (evo_traj)"
-  [ -f "$OUT/trajectory.png" ] && say "plot of the trajectory over ground truth: $OUT/trajectory.png"
+    --plot_mode xy --no_warnings --save_plot "$OUT/trajectory.png" > /dev/null 2>&1 || say "plotting failed (evo_traj)"
+  # evo names its figures <name>_trajectories.png, <name>_xyz.png, ...
+  [ -f "$OUT/trajectory_trajectories.png" ] && say "plot of the trajectory over ground truth: $OUT/trajectory_trajectories.png"
 fi
 /usr/bin/python3 - "$OUT/metrics.json" <<'PY'
 import json, sys

@@ -1,3 +1,4 @@
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,16 +12,10 @@ using namespace edge_slam;
 
 namespace {
 PinholeCamera camera() {
-  PinholeCamera c;
+  PinholeCamera c = synthetic_room_camera(30.0);
   c.name = "test";
-  c.width = 640;
-  c.height = 480;
   c.fx = c.fy = 500;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
   c.th_depth = 3.2;
-  c.depth_factor = 5000;
   return c;
 }
 std::shared_ptr<ScalePyramid> pyramid() { return std::make_shared<ScalePyramid>(ScalePyramid::make(8, 1.2f)); }

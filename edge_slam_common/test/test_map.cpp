@@ -1,4 +1,5 @@
 // Map clear + rebuild must restore exactly the links built incrementally.
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <random>
@@ -11,13 +12,8 @@ using namespace edge_slam;
 namespace {
 
 PinholeCamera test_camera() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
+  PinholeCamera c = synthetic_room_camera(30.0);
   c.fx = c.fy = 500;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
   c.th_depth = 3.2;
   return c;
 }

@@ -1,4 +1,5 @@
 // Map objects -> wire records -> a rebuilt map: the Local-Map update path without ROS.
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <random>
@@ -8,18 +9,7 @@
 namespace edge_slam {
 namespace {
 
-PinholeCamera test_camera() {
-  PinholeCamera c;
-  c.name = "test";
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 525;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
-  c.th_depth = 40 * c.bf / c.fx;
-  return c;
-}
+PinholeCamera test_camera() { return synthetic_room_camera(30.0); }
 
 // Six KeyFrames along a line; consecutive ones share map points (chain covisibility).
 struct SyntheticMap {

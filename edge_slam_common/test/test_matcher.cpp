@@ -1,5 +1,6 @@
 // Matching on synthetic projections: known correspondences, descriptor noise, wrong
 // keypoint orientations that the rotation histogram must reject.
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,13 +15,8 @@ using namespace edge_slam;
 namespace {
 
 PinholeCamera camera() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
+  PinholeCamera c = synthetic_room_camera(30.0);
   c.fx = c.fy = 500;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
   c.th_depth = 3.2;
   return c;
 }

@@ -1,3 +1,4 @@
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,16 +13,7 @@ using namespace edge_slam;
 
 namespace {
 
-PinholeCamera make_camera() {
-  PinholeCamera cam;
-  cam.width = 640;
-  cam.height = 480;
-  cam.fx = cam.fy = 525.0;
-  cam.cx = 319.5;
-  cam.cy = 239.5;
-  cam.bf = 40.0;
-  return cam;
-}
+PinholeCamera make_camera() { return synthetic_room_camera(30.0); }
 
 Eigen::Isometry3d small_motion(std::mt19937& rng, double metres, double degrees) {
   std::normal_distribution<double> n(0.0, 1.0);

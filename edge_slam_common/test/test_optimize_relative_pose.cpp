@@ -1,3 +1,4 @@
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,16 +10,7 @@ using namespace edge_slam;
 
 namespace {
 
-PinholeCamera make_camera() {
-  PinholeCamera cam;
-  cam.width = 640;
-  cam.height = 480;
-  cam.fx = cam.fy = 525.0;
-  cam.cx = 319.5;
-  cam.cy = 239.5;
-  cam.bf = 40.0;
-  return cam;
-}
+PinholeCamera make_camera() { return synthetic_room_camera(30.0); }
 
 Eigen::Isometry3d true_T_12() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -1,5 +1,6 @@
 // Tracking on a small rendered scene (three textured planes: back wall, floor, side wall)
 // with known camera motion; no dataset and no vocabulary needed.
+#include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,19 +15,7 @@ using namespace edge_slam;
 
 namespace {
 
-PinholeCamera camera() {
-  PinholeCamera c;
-  c.name = "render";
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 525;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
-  c.th_depth = 40 * 40 / 525.0;
-  c.depth_factor = 5000;
-  return c;
-}
+PinholeCamera camera() { return synthetic_room_camera(30.0); }
 
 struct Plane {
   Eigen::Vector3d n;        // unit normal

@@ -27,7 +27,19 @@ void Map::add_keyframe(const std::shared_ptr<KeyFrame>& kf) {
 void Map::add_map_point(const std::shared_ptr<MapPoint>& mp) {
   std::lock_guard<std::mutex> lock(mutex_);
   map_points_[mp->id()] = mp;
-  raise_to(next_mp_id_, mp->id() + 1);
+  raise_map_point_ids_past(mp->id());
+}
+void Map::raise_map_point_ids_past(uint32_t id) {
+  if (id >= mp_id_first_ && id < mp_id_end_) raise_to(next_mp_id_, id + 1);
+}
+void Map::set_map_point_id_space(uint32_t first, uint32_t end) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  mp_id_first_ = first;
+  mp_id_end_ = end;
+  uint32_t highest = first;
+  for (const auto& kv : map_points_)
+    if (kv.first >= first && kv.first < end) highest = std::max(highest, kv.first + 1);
+  next_mp_id_ = highest;
 }
 void Map::erase_keyframe(uint32_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -96,7 +108,7 @@ void Map::rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
     }
     for (const auto& mp : mps) {
       map_points_[mp->id()] = mp;
-      raise_to(next_mp_id_, mp->id() + 1);
+      raise_map_point_ids_past(mp->id());
     }
   }
   for (const auto& mp : mps) mp->clear_observations();

@@ -14,7 +14,10 @@ namespace edge_slam {
 namespace {
 
 // ORB-SLAM2 RGB-D constants.
-constexpr float kMotionModelWindow = 7.f;     // pixels at level 0 (doubled on retry)
+// Motion-model search window at level 0: a tight first try, then a wide retry when the
+// velocity changed (ORB-SLAM2 uses 15 then 30 for RGB-D; 7 first was more accurate here).
+constexpr float kMotionModelWindow = 7.f;
+constexpr float kMotionModelRetryWindow = 30.f;
 constexpr int kMinMotionMatches = 20;
 constexpr int kMinBowMatches = 15;
 constexpr int kMinMapMatchesAfterPose = 10;
@@ -231,7 +234,7 @@ bool Tracking::track_with_motion_model(Frame& frame) {
   int n = matcher.search_by_projection(frame, last_frame_, kMotionModelWindow);
   if (n < kMinMotionMatches) {
     clear_matches(frame);
-    n = matcher.search_by_projection(frame, last_frame_, 2 * kMotionModelWindow);
+    n = matcher.search_by_projection(frame, last_frame_, kMotionModelRetryWindow);
   }
   if (n < kMinMotionMatches) return false;
   if (optimize_frame_pose(frame) < 0) return false;
@@ -250,7 +253,7 @@ bool Tracking::track_reference_keyframe(Frame& frame) {
   } else {
     // No vocabulary: assume no motion and search the last frame's points widely.
     const OrbMatcher matcher(0.9f, true);
-    if (matcher.search_by_projection(frame, last_frame_, 4 * kMotionModelWindow) < kMinMotionMatches)
+    if (matcher.search_by_projection(frame, last_frame_, kMotionModelRetryWindow) < kMinMotionMatches)
       return false;
   }
   if (optimize_frame_pose(frame) < 0) return false;

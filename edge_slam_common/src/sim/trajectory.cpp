@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace edge_slam {
 namespace {
@@ -35,6 +36,9 @@ Trajectory::Trajectory(uint64_t seed, const TrajectoryOptions& options) : option
   duration_ = options_.loop_seconds * options_.loops;
   turn_centre_ = 0.5 * duration_;
   pause_half_width_ = options_.turn_degrees > 0 ? 3.0 * options_.turn_seconds : 0.0;
+  if (options_.turn_degrees > 0 &&
+      (turn_start() < pause_half_width_ || look_away_end() + pause_half_width_ > duration_))
+    throw std::invalid_argument("the look-away turn does not fit in the trajectory's duration");
   SplitMix64 rng(seed ^ 0x7A5C3E1F00000000ull);
   for (double& p : phases_) p = rng.uniform(0, 2 * M_PI);
 }
@@ -46,18 +50,29 @@ double Trajectory::wobble(double t, int term) const {
   return w.amplitude * std::sin(phase);
 }
 
-// Walking speed follows 1 - raised-cosine bump around the turn, so the walker stands still
-// while turning. The angle is the closed-form integral of that speed, scaled to end at
-// 2*pi*loops.
-double Trajectory::loop_angle(double t) const {
+// Walking speed is 1 - stop(t): the walker ramps down (raised cosine over pause_half_width_),
+// stands still from the fast turn until the slow turn back is over, and ramps up again, so the
+// look-away starts and ends at the same place and heading. The angle is the closed-form
+// integral of that speed, scaled to end at 2*pi*loops.
+double Trajectory::stopped_time(double s) const {
   const double w = pause_half_width_;
-  auto paused = [&](double s) {  // integral of the bump up to s
-    if (w <= 0 || s <= turn_centre_ - w) return 0.0;
-    if (s >= turn_centre_ + w) return w;
-    const double x = s - turn_centre_;
-    return 0.5 * (x + w) + w / (2 * M_PI) * std::sin(M_PI * x / w);
-  };
-  return 2 * M_PI * options_.loops * (t - paused(t)) / (duration_ - paused(duration_));
+  if (w <= 0) return 0.0;
+  const double a = turn_start(), b = look_away_end();
+  if (s <= a - w) return 0.0;
+  if (s <= a) {  // ramping down: stop(x) = (1 - cos(pi x / w)) / 2
+    const double x = s - (a - w);
+    return 0.5 * (x - w / M_PI * std::sin(M_PI * x / w));
+  }
+  if (s <= b) return 0.5 * w + (s - a);
+  if (s <= b + w) {  // ramping up: stop(x) = (1 + cos(pi x / w)) / 2
+    const double x = s - b;
+    return 0.5 * w + (b - a) + 0.5 * (x + w / M_PI * std::sin(M_PI * x / w));
+  }
+  return w + (b - a);
+}
+
+double Trajectory::loop_angle(double t) const {
+  return 2 * M_PI * options_.loops * (t - stopped_time(t)) / (duration_ - stopped_time(duration_));
 }
 
 double Trajectory::turn_yaw(double t) const {

@@ -44,6 +44,9 @@ class Map {
 
   uint32_t new_keyframe_id() { return next_kf_id_++; }
   uint32_t new_map_point_id() { return next_mp_id_++; }
+  // Map points this map creates get ids in [first, end); ids outside it (points created by
+  // the other side of the split) never move this map's allocator. Default: every id.
+  void set_map_point_id_space(uint32_t first, uint32_t end);
   // Makes future ids larger than any id already used (e.g. ids coming from another map).
   void reserve_ids(uint32_t next_kf_id, uint32_t next_mp_id);
 
@@ -59,6 +62,8 @@ class Map {
   std::vector<std::shared_ptr<MapPoint>> reference_map_points_;
   std::atomic<uint32_t> next_kf_id_{0};
   std::atomic<uint32_t> next_mp_id_{0};
+  uint32_t mp_id_first_ = 0, mp_id_end_ = kNoId;
+  void raise_map_point_ids_past(uint32_t id);
 };
 
 }  // namespace edge_slam

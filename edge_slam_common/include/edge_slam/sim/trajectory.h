@@ -34,17 +34,20 @@ class Trajectory {
   double duration() const { return duration_; }
   double turn_start() const { return turn_centre_ - 0.5 * options_.turn_seconds; }
   double turn_end() const { return turn_centre_ + 0.5 * options_.turn_seconds; }
+  // End of the slow turn back: the camera looks where it looked at turn_start() again.
+  double look_away_end() const { return turn_end() + options_.hold_seconds + options_.return_seconds; }
   const TrajectoryOptions& options() const { return options_; }
 
  private:
   double loop_angle(double t) const;  // position angle on the ellipse, 0 .. 2*pi*loops
+  double stopped_time(double t) const;  // integral of the walker's stop profile up to t
   double turn_yaw(double t) const;    // the look-away: 0, fast up to the turn angle, slowly back to 0
   double wobble(double t, int term) const;
 
   TrajectoryOptions options_;
   double duration_ = 0;
   double turn_centre_ = 0;
-  double pause_half_width_ = 0;  // the walker slows to a stop around the turn
+  double pause_half_width_ = 0;  // ramp time of the walker stopping and restarting
   double phases_[16] = {};
 };
 

@@ -1,0 +1,87 @@
+// The mobile side of Edge-SLAM without ROS (paper 4.4, 4.7): Tracking on the Local-Map; every
+// new KeyFrame becomes a record (with the map points it created) in an outbox that a sender
+// thread drains, so tracking never waits for the network; Local-Map updates from the edge go
+// through the acceptance policy (eq. 1) and, when accepted, replace the Local-Map in linear
+// time while tracking is paused; while lost, a processed Frame is offered every
+// `relocalization_frame_period` seconds for edge assistance.
+// Thread-safe: track(), apply_update() and reset() exclude each other (an update pauses
+// tracking), the outbox is a queue, the rest are snapshots.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/data/map.h"
+#include "edge_slam/io/wire_records.h"
+#include "edge_slam/module/map_update_policy.h"
+#include "edge_slam/module/tracking.h"
+#include "edge_slam/util/bounded_queue.h"
+
+namespace edge_slam {
+
+struct MobileSessionParams {
+  MapUpdatePolicyParams policy;             // ITC 300 ms, LMU 6
+  double relocalization_frame_period = 0.5; // seconds between Frames sent while lost
+  size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender
+};
+
+struct UpdateOutcome {
+  UpdateDecision decision = UpdateDecision::kAccept;
+  double rebuild_ms = 0;        // Local-Map clear + rebuild (tracking paused)
+  size_t keyframes = 0, map_points = 0;
+  std::string error;            // a record the rebuild refused (the Local-Map is unchanged)
+};
+
+class MobileSession {
+ public:
+  MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
+                std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
+                RgbEncoding encoding = RgbEncoding::kRgb);
+
+  TrackingResult track(const cv::Mat& color, const cv::Mat& depth, double stamp);
+  UpdateOutcome apply_update(const MapUpdateRecord& update, double now);
+  void count_invalid_update();
+  // A processed frame for relocalization assistance, when lost and the period has elapsed.
+  std::optional<FrameRecord> take_relocalization_frame(double now);
+  // Paper 4.7.4: queue the newest KeyFrame again with its reset flag (the edge resets on it),
+  // then clear the Local-Map and restart initialisation. False when there is no KeyFrame yet
+  // (nothing to reset on the edge either).
+  bool reset();
+
+  BoundedQueue<KeyFrameRecord>& outbox() { return outbox_; }
+  void set_updates_enabled(bool enabled);
+  bool updates_enabled() const;
+  MapUpdateCounters update_counters() const;
+  double time_constraint() const;
+  size_t local_map_keyframes() const { return map_->num_keyframes(); }
+  size_t local_map_points() const { return map_->num_map_points(); }
+  TrackingState state() const;
+  TrackingCounters tracking_counters() const;
+  std::shared_ptr<const Map> local_map() const { return map_; }
+  uint64_t keyframes_sent() const;
+
+ private:
+  void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
+
+  PinholeCamera camera_;
+  std::shared_ptr<const BowVocabulary> vocabulary_;
+  MobileSessionParams params_;
+  std::shared_ptr<const ScalePyramid> pyramid_;  // for KeyFrames rebuilt from updates
+  std::shared_ptr<Map> map_;
+  std::shared_ptr<KeyFrameDatabase> database_;
+  BoundedQueue<KeyFrameRecord> outbox_;
+
+  mutable std::mutex mutex_;  // held by track(), apply_update(), reset()
+  Tracking tracking_;
+  MapUpdatePolicy policy_;
+  double last_stamp_ = 0;
+  double last_keyframe_stamp_ = 0;
+  bool keyframe_since_update_ = false;
+  uint64_t next_keyframe_seq_ = 1;
+  uint64_t next_frame_seq_ = 1;
+  double last_relocalization_frame_time_ = -1e300;
+  std::optional<KeyFrameRecord> newest_keyframe_;
+};
+
+}  // namespace edge_slam

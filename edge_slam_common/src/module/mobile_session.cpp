@@ -1,0 +1,139 @@
+#include "edge_slam/module/mobile_session.h"
+
+#include <chrono>
+#include <unordered_set>
+
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/io/map_records.h"
+
+namespace edge_slam {
+
+MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
+                             std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
+                             RgbEncoding encoding)
+    : camera_(camera),
+      vocabulary_(vocabulary),
+      params_(params),
+      pyramid_(std::make_shared<ScalePyramid>(ScalePyramid::make(orb.num_levels, orb.scale_factor))),
+      map_(std::make_shared<Map>()),
+      database_(std::make_shared<KeyFrameDatabase>()),
+      outbox_(params.outbox_capacity),
+      tracking_(camera, orb, tracking, map_, database_, vocabulary, encoding),
+      policy_(params.policy) {
+  map_->set_map_point_id_space(kMobilePointIdFirst, kEdgePointIdFirst);
+  // Runs inside track(), with mutex_ held.
+  tracking_.on_new_keyframe = [this](const std::shared_ptr<KeyFrame>& kf) { on_new_keyframe(kf); };
+}
+
+void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
+  // The points this KeyFrame created travel in full; the others as observations by id.
+  std::unordered_set<uint32_t> created;
+  for (uint32_t id : kf->map_point_ids()) {
+    if (id == kNoId) continue;
+    const auto mp = map_->map_point(id);
+    if (mp && mp->reference_kf_id() == kf->id() && mp->num_observations() == 1) created.insert(id);
+  }
+  KeyFrameRecord record = to_record(*kf, *map_, created);
+  record.seq = next_keyframe_seq_++;
+  newest_keyframe_ = record;
+  outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
+  last_keyframe_stamp_ = kf->stamp();
+  keyframe_since_update_ = true;
+}
+
+TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, double stamp) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_stamp_ = stamp;
+  return tracking_.track_rgbd(color, depth, stamp);
+}
+
+UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double now) {
+  std::lock_guard<std::mutex> lock(mutex_);  // pauses tracking for the whole rebuild
+  TrackingSnapshot s;
+  s.initialized = tracking_.state() != TrackingState::kNotInitialized;
+  s.lost = tracking_.state() == TrackingState::kLost;
+  s.keyframe_since_last_update = keyframe_since_update_;
+  s.now = now;
+  s.last_keyframe_time = last_keyframe_stamp_;
+  s.local_map_keyframes = static_cast<int>(map_->num_keyframes());
+  UpdateOutcome out;
+  out.decision = policy_.decide(update.kind, s);
+  if (out.decision != UpdateDecision::kAccept) return out;
+
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    const RebuildStats stats = rebuild_from_update(*map_, update, camera_, pyramid_, vocabulary_.get());
+    out.keyframes = stats.keyframes;
+    out.map_points = stats.map_points;
+  } catch (const std::exception& e) {
+    out.error = e.what();
+    return out;
+  }
+  database_->clear();
+  for (const auto& kf : map_->keyframes())
+    if (kf->has_bow()) database_->add(kf);
+  tracking_.relink_after_map_update();
+  keyframe_since_update_ = false;
+  out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+void MobileSession::count_invalid_update() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  policy_.count_invalid();
+}
+
+std::optional<FrameRecord> MobileSession::take_relocalization_frame(double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (tracking_.state() != TrackingState::kLost) return std::nullopt;
+  if (now - last_relocalization_frame_time_ < params_.relocalization_frame_period) return std::nullopt;
+  const Frame& f = tracking_.last_frame();
+  if (!f.features || f.size() == 0) return std::nullopt;
+  last_relocalization_frame_time_ = now;
+  return to_record(f, next_frame_seq_++);
+}
+
+bool MobileSession::reset() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool had_keyframe = newest_keyframe_.has_value();
+  if (had_keyframe) {
+    KeyFrameRecord r = *newest_keyframe_;
+    r.reset = true;
+    r.seq = next_keyframe_seq_++;
+    outbox_.push(std::move(r));
+  }
+  tracking_.reset();
+  newest_keyframe_.reset();
+  keyframe_since_update_ = false;
+  return had_keyframe;
+}
+
+void MobileSession::set_updates_enabled(bool enabled) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  policy_.set_enabled(enabled);
+}
+bool MobileSession::updates_enabled() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return policy_.enabled();
+}
+MapUpdateCounters MobileSession::update_counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return policy_.counters();
+}
+double MobileSession::time_constraint() const {
+  return policy_.time_constraint(static_cast<int>(map_->num_keyframes()));
+}
+TrackingState MobileSession::state() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return tracking_.state();
+}
+TrackingCounters MobileSession::tracking_counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return tracking_.counters();
+}
+uint64_t MobileSession::keyframes_sent() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return next_keyframe_seq_ - 1;
+}
+
+}  // namespace edge_slam

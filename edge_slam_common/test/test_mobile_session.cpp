@@ -1,0 +1,161 @@
+// The mobile side without ROS, on frames rendered from the project's synthetic room: KeyFrames
+// reach the outbox with the points they created, an edge-style Local-Map update is accepted
+// and tracking goes on in the rebuilt Local-Map, the controller blocks updates, reset works.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/io/map_records.h"
+#include "edge_slam/module/mobile_session.h"
+#include "edge_slam/sim/renderer.h"
+#include "edge_slam/sim/scene.h"
+#include "edge_slam/sim/synthetic_camera.h"
+#include "edge_slam/sim/trajectory.h"
+
+namespace edge_slam {
+namespace {
+
+constexpr int kFrames = 60;  // every 2nd pose of the sequence: 4 s of walking
+
+struct RenderedSequence {
+  PinholeCamera camera = synthetic_room_camera(30.0);
+  std::vector<cv::Mat> colors, depths;
+  cv::Mat elsewhere_color, elsewhere_depth;  // the far side of the room: never mapped here
+  std::shared_ptr<BowVocabulary> vocabulary = std::make_shared<BowVocabulary>();
+
+  RenderedSequence() {
+    const Scene scene = Scene::build(42, 64.0);  // coarser textures: fast to build
+    const Trajectory trajectory(42);
+    RenderOptions options;
+    options.supersample = 1;
+    std::vector<cv::Mat> descriptors;
+    const OrbExtractor orb;
+    for (int i = 0; i < kFrames; ++i) {
+      const RenderedFrame f = render(scene, camera, trajectory.pose_at(i / 15.0), options);
+      cv::Mat rgb;
+      cv::cvtColor(f.bgr, rgb, cv::COLOR_BGR2RGB);
+      colors.push_back(rgb);
+      depths.push_back(f.depth);
+      if (i % 5 == 0) {
+        cv::Mat gray, desc;
+        std::vector<cv::KeyPoint> keys;
+        cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
+        orb.extract(gray, keys, desc);
+        descriptors.push_back(desc);
+      }
+    }
+    const RenderedFrame far = render(scene, camera, trajectory.pose_at(10.0), options);
+    cv::cvtColor(far.bgr, elsewhere_color, cv::COLOR_BGR2RGB);
+    elsewhere_depth = far.depth;
+    VocabularyParams vp;
+    vp.branching = 8;
+    vp.levels = 3;
+    vocabulary->train(descriptors, vp);
+  }
+};
+
+const RenderedSequence& sequence() {
+  static const RenderedSequence s;
+  return s;
+}
+
+MobileSession make_session() {
+  return MobileSession(sequence().camera, OrbParams(), TrackingParams(), sequence().vocabulary,
+                       MobileSessionParams(), RgbEncoding::kRgb);
+}
+
+// What the edge would send back: every KeyFrame received so far with all its points.
+MapUpdateRecord update_from(const std::vector<KeyFrameRecord>& sent, const PinholeCamera& camera) {
+  const auto pyramid = std::make_shared<ScalePyramid>(ScalePyramid::make(8, 1.2f));
+  Map global;
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  std::vector<std::shared_ptr<MapPoint>> mps;
+  for (const KeyFrameRecord& r : sent) {
+    kfs.push_back(keyframe_from_record(r, camera, pyramid));
+    for (const NewPointRecord& p : r.new_points) mps.push_back(map_point_from_new_point(p, *kfs.back()));
+  }
+  global.rebuild(kfs, mps);
+  MapUpdateRecord u;
+  for (const auto& kf : global.keyframes()) u.keyframes.push_back(to_record(*kf, global));
+  for (const auto& mp : global.map_points()) u.points.push_back(to_record(*mp));
+  return u;
+}
+
+TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
+  const RenderedSequence& seq = sequence();
+  MobileSession session = make_session();
+  const int first_half = kFrames - 10;
+  for (int i = 0; i < first_half; ++i)
+    ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  ASSERT_GE(sent.size(), 2u);
+  EXPECT_EQ(sent.front().seq, 1u);
+  EXPECT_GT(sent.front().new_points.size(), 100u) << "the first KeyFrame creates the initial map";
+  EXPECT_FALSE(sent.back().observations.empty()) << "later KeyFrames observe existing points";
+  for (const KeyFrameRecord& r : sent)
+    for (const NewPointRecord& p : r.new_points) EXPECT_LT(p.id, kEdgePointIdFirst);
+
+  // Right after a KeyFrame the update is refused (rule d); a second later it is applied.
+  const MapUpdateRecord update = update_from(sent, seq.camera);
+  const double last_stamp = (first_half - 1) / 15.0;
+  const UpdateOutcome refused = session.apply_update(update, sent.back().stamp + 0.01);
+  EXPECT_EQ(refused.decision, UpdateDecision::kRejectKeyFrameRate);
+  const UpdateOutcome applied = session.apply_update(update, last_stamp + 1.0);
+  ASSERT_EQ(applied.decision, UpdateDecision::kAccept);
+  EXPECT_TRUE(applied.error.empty()) << applied.error;
+  EXPECT_EQ(applied.keyframes, sent.size());
+  EXPECT_EQ(session.local_map_keyframes(), sent.size());
+  // No KeyFrame since: the same update again is redundant (rule c).
+  EXPECT_EQ(session.apply_update(update, last_stamp + 2.0).decision, UpdateDecision::kRejectRedundant);
+
+  for (int i = first_half; i < kFrames; ++i)
+    EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+  const MapUpdateCounters c = session.update_counters();
+  EXPECT_EQ(c.received, 3u);
+  EXPECT_EQ(c.accepted, 1u);
+}
+
+TEST(MobileSession, ControllerBlocksUpdatesAndResetSendsTheFlag) {
+  const RenderedSequence& seq = sequence();
+  MobileSession session = make_session();
+  for (int i = 0; i < 10; ++i) session.track(seq.colors[i], seq.depths[i], i / 15.0);
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  ASSERT_FALSE(sent.empty());
+
+  session.set_updates_enabled(false);
+  EXPECT_EQ(session.apply_update(update_from(sent, seq.camera), 100.0).decision, UpdateDecision::kRejectController);
+  EXPECT_EQ(session.update_counters().rejected_controller, 1u);
+
+  EXPECT_TRUE(session.reset());
+  const auto reset_record = session.outbox().try_pop();
+  ASSERT_TRUE(reset_record);
+  EXPECT_TRUE(reset_record->reset);
+  EXPECT_EQ(reset_record->id, sent.back().id);
+  EXPECT_EQ(session.state(), TrackingState::kNotInitialized);
+  EXPECT_EQ(session.local_map_keyframes(), 0u);
+  EXPECT_FALSE(session.reset()) << "nothing to reset any more";
+}
+
+TEST(MobileSession, OffersRelocalizationFramesOnlyWhileLostAndAtTheirPeriod) {
+  const RenderedSequence& seq = sequence();
+  MobileSession session = make_session();
+  for (int i = 0; i < 5; ++i) session.track(seq.colors[i], seq.depths[i], i / 15.0);
+  EXPECT_FALSE(session.take_relocalization_frame(1.0)) << "not lost";
+  const cv::Mat blank(480, 640, CV_8UC3, cv::Scalar(90, 90, 90));
+  session.track(blank, seq.depths[5], 0.2);
+  ASSERT_EQ(session.state(), TrackingState::kLost);
+  session.track(seq.elsewhere_color, seq.elsewhere_depth, 0.3);  // features, but nothing mapped
+  ASSERT_EQ(session.state(), TrackingState::kLost);
+  const std::optional<FrameRecord> frame = session.take_relocalization_frame(1.0);
+  ASSERT_TRUE(frame);
+  EXPECT_GT(frame->features.size(), 500u);
+  EXPECT_FALSE(session.take_relocalization_frame(1.2)) << "within the 0.5 s period";
+  EXPECT_TRUE(session.take_relocalization_frame(1.6));
+}
+
+}  // namespace
+}  // namespace edge_slam
