@@ -73,10 +73,10 @@ std::vector<std::shared_ptr<MapPoint>> KeyFrame::map_points(const Map& map) cons
   return out;
 }
 
-int KeyFrame::tracked_map_points(const Map& map, int min_obs) const {
+int KeyFrame::tracked_map_points(const Map& map, int min_obs, bool depth_counts_twice) const {
   int n = 0;
   for (const auto& mp : map_points(map))
-    if (mp && mp->weighted_observations(map) >= min_obs) ++n;
+    if (mp && (depth_counts_twice ? mp->weighted_observations(map) : mp->num_observations()) >= min_obs) ++n;
   return n;
 }
 

@@ -8,7 +8,9 @@ SlamSystem::SlamSystem(const PinholeCamera& camera, const OrbParams& orb, const 
                        std::shared_ptr<const BowVocabulary> vocabulary, const SlamSystemOptions& options,
                        RgbEncoding encoding)
     : map_(std::make_shared<Map>()), database_(std::make_shared<KeyFrameDatabase>()) {
-  tracking_ = std::make_unique<Tracking>(camera, orb, tracking_params, map_, database_, vocabulary, encoding);
+  TrackingParams params = tracking_params;
+  if (!options.local_mapping) params.depth_counts_twice = false;
+  tracking_ = std::make_unique<Tracking>(camera, orb, params, map_, database_, vocabulary, encoding);
   if (options.local_mapping) {
     mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary, options.mapping);
     if (options.loop_closing && vocabulary) {

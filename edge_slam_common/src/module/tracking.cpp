@@ -322,7 +322,7 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
   in.mapper_idle = mapper_idle_;
   in.tracked_points = inliers;
   const int min_obs = std::min(params_.reference_min_observations, n_kfs <= 2 ? 2 : 1000);
-  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, min_obs);
+  in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, min_obs, params_.depth_counts_twice);
   const FrameFeatures& f = frame.feat();
   for (size_t i = 0; i < frame.size(); ++i) {
     if (!f.is_close(i)) continue;

@@ -65,9 +65,9 @@ class KeyFrame {
   void erase_map_point_id(size_t i);
   // Resolved through the map: null where there is no (good) point.
   std::vector<std::shared_ptr<MapPoint>> map_points(const Map& map) const;
-  // Number of good points with at least `min_obs` observations (weighted: a keypoint
-  // with depth counts twice, as in ORB-SLAM2's RGB-D keyframe decision).
-  int tracked_map_points(const Map& map, int min_obs) const;
+  // Number of good points with at least `min_obs` observations; with depth_counts_twice a
+  // keypoint with depth counts twice, as in ORB-SLAM2's RGB-D keyframe decision.
+  int tracked_map_points(const Map& map, int min_obs, bool depth_counts_twice = true) const;
 
   // --- covisibility graph ---
   // Recounts shared observations with every other keyframe (through the map points),

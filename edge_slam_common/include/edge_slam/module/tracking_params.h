@@ -14,6 +14,10 @@ struct TrackingParams {
   int min_inliers_after_relocalization = 50;
   int new_points_per_keyframe = 100;        // closest points always made into map points
   int max_local_keyframes = 80;
+  // Reference keyframe's points for condition (4) count an observation with depth twice
+  // (ORB-SLAM2, needed with local mapping); tracking-only runs keep plain counts so that an
+  // always-idle "mapper" does not turn every frame into a keyframe.
+  bool depth_counts_twice = true;
   // Condition (4) counts the reference keyframe's points seen by at least this many
   // keyframes. ORB-SLAM2 uses 3 (2 while the map has <= 2 keyframes), relying on local
   // mapping to fuse observations; without a mapper points gain observations only from the
