@@ -37,6 +37,14 @@ TEST(KeyFrameDecision, Condition2FramesOrMapperIdle) {
   EXPECT_FALSE(keyframe_gap_or_mapper_idle(p, in));  // 10 frames, mapper busy
   in.last_keyframe_frame_id = 80;
   EXPECT_TRUE(keyframe_gap_or_mapper_idle(p, in));  // 20 frames
+  // Weak tracking overrides a busy mapper (ORB-SLAM2 RGB-D c1c).
+  in.last_keyframe_frame_id = 90;
+  in.tracked_points = 70;  // < 0.25 * 300
+  EXPECT_TRUE(keyframe_gap_or_mapper_idle(p, in));
+  in.tracked_points = 200;
+  in.tracked_close_points = 40;
+  in.untracked_close_points = 200;  // close points needed
+  EXPECT_TRUE(keyframe_gap_or_mapper_idle(p, in));
 }
 
 TEST(KeyFrameDecision, Condition3EnoughTrackedPoints) {

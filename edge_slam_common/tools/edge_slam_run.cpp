@@ -1,12 +1,15 @@
-// Monolithic runner (no ROS): tracks every associated frame of a TUM-format folder and
-// writes <out>/trajectory.txt (TUM, T_wc of every tracked frame), <out>/keyframes.txt and
-// <out>/metrics.json.
+// Monolithic runner (no ROS): runs Tracking + Local-Mapping + Loop-Closing (SlamSystem) on
+// every associated frame of a TUM-format folder, waits for mapping and the full BA to
+// finish, and writes <out>/trajectory.txt (TUM, T_wc of every tracked frame, relative to
+// its reference keyframe's final pose), <out>/keyframes.txt and <out>/metrics.json.
 //
 //   edge_slam_run --dataset <TUM folder> [--camera <yaml>] [--config config/slam.yaml]
-//                 [--vocabulary <file>] --out <dir> [--max-frames N] [--every K]
+//                 [--vocabulary <file>] --out <dir> [--max-frames N] [--mode monolithic]
+//                 [--pace realtime|none] [--no-mapping] [--no-loop] [--every K]
 // --every K tracks only every K-th associated frame (frame-rate robustness tests).
 #include <sys/stat.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -14,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "edge_slam/camera/camera_loader.h"
 #include "edge_slam/data/bow_vocabulary.h"
@@ -23,6 +27,7 @@
 #include "edge_slam/io/trajectory_io.h"
 #include "edge_slam/io/tum_dataset.h"
 #include "edge_slam/io/vocabulary_io.h"
+#include "edge_slam/module/slam_system.h"
 #include "edge_slam/module/tracking.h"
 #include "edge_slam/module/tracking_params.h"
 #include "edge_slam/util/timing_stats.h"
@@ -39,9 +44,18 @@ bool file_exists(const std::string& p) {
 int usage(const char* msg) {
   if (msg) std::cerr << "edge_slam_run: " << msg << "\n";
   std::cerr << "usage: edge_slam_run --dataset <TUM folder> [--camera <yaml>] [--config <slam.yaml>]\n"
-               "                     [--vocabulary <file>] --out <dir> [--max-frames N] [--every K]\n"
-               "  --camera defaults to <dataset>/camera.yaml; --vocabulary to vocabulary/path in the config.\n";
+               "                     [--vocabulary <file>] --out <dir> [--max-frames N] [--mode monolithic]\n"
+               "                     [--pace realtime|none] [--no-mapping] [--no-loop] [--every K]\n"
+               "  --camera defaults to <dataset>/camera.yaml; --vocabulary to vocabulary/path in the config.\n"
+               "  --pace realtime (default) feeds frames at their timestamps, as ORB-SLAM2's runner does;\n"
+               "  --no-mapping tracks only (no local mapping, no loop closing); --no-loop skips loop closing.\n";
   return 1;
+}
+
+void write_timing(std::ostream& m, const char* name, const std::vector<double>& ms, bool last = false) {
+  const TimingStats t = summarize_times(ms);
+  m << "  \"" << name << "\": {\"count\": " << t.count << ", \"mean\": " << t.mean << ", \"median\": " << t.median
+    << ", \"p95\": " << t.p95 << ", \"max\": " << t.max << "}" << (last ? "\n" : ",\n");
 }
 
 void write_keyframes(const std::string& path, const Map& map) {
@@ -58,21 +72,30 @@ void write_keyframes(const std::string& path, const Map& map) {
 
 int main(int argc, char** argv) {
   std::map<std::string, std::string> args;
+  bool no_mapping = false, no_loop = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") return usage(nullptr), 0;
+    if (a == "--no-mapping" || a == "--no-loop") {
+      (a == "--no-mapping" ? no_mapping : no_loop) = true;
+      continue;
+    }
     if (a.rfind("--", 0) != 0 || i + 1 >= argc) return usage(("bad argument '" + a + "'").c_str());
     args[a.substr(2)] = argv[++i];
   }
   for (const auto& [k, v] : args)
     if (k != "dataset" && k != "camera" && k != "config" && k != "vocabulary" && k != "out" && k != "max-frames" &&
-        k != "every")
+        k != "mode" && k != "pace" && k != "every")
       return usage(("unknown option --" + k).c_str());
   if (!args.count("dataset")) return usage("--dataset is required");
   if (!args.count("out")) return usage("--out is required");
   const std::string dataset_dir = args["dataset"];
   const std::string out_dir = args["out"];
   const std::string config_path = args.count("config") ? args["config"] : "config/slam.yaml";
+  const std::string mode = args.count("mode") ? args["mode"] : "monolithic";
+  if (mode != "monolithic") return usage(("--mode " + mode + ": only monolithic runs in this process").c_str());
+  const std::string pace = args.count("pace") ? args["pace"] : "realtime";
+  if (pace != "realtime" && pace != "none") return usage("--pace takes realtime or none");
 
   try {
     if (!file_exists(dataset_dir)) throw std::runtime_error("dataset folder '" + dataset_dir + "' does not exist");
@@ -113,18 +136,24 @@ int main(int argc, char** argv) {
     if (::mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST)
       throw std::runtime_error("cannot create output folder '" + out_dir + "'");
 
-    auto map = std::make_shared<Map>();
-    auto database = std::make_shared<KeyFrameDatabase>();
+    SlamSystemOptions options;
+    options.local_mapping = !no_mapping;
+    options.loop_closing = !no_mapping && !no_loop;
     // Images come from OpenCV's imread, which always yields BGR.
-    Tracking tracking(camera, orb, tracking_params, map, database, vocabulary, RgbEncoding::kBgr);
-    // No local mapping yet: the mapper is reported idle, keyframes stay in the map as inserted.
-    tracking.set_mapper_idle(true);
+    SlamSystem slam(camera, orb, tracking_params, vocabulary, options, RgbEncoding::kBgr);
+    const Map& map_ref = slam.map();
+    const Map* map = &map_ref;
 
-    std::vector<std::pair<double, Eigen::Isometry3d>> trajectory;
     const size_t n = max_frames >= 0 ? std::min<size_t>(max_frames, dataset.frames().size()) : dataset.frames().size();
+    const auto wall_start = std::chrono::steady_clock::now();
+    const double first_stamp = dataset.frames().empty() ? 0.0 : dataset.frames()[0].rgb_stamp;
     size_t processed = 0;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
+      if (pace == "realtime") {  // do not run ahead of the camera
+        const auto due = wall_start + std::chrono::duration<double>(dataset.frames()[i].rgb_stamp - first_stamp);
+        std::this_thread::sleep_until(due);
+      }
       cv::Mat rgb, depth;
       try {
         rgb = dataset.load_rgb(i);
@@ -132,8 +161,7 @@ int main(int argc, char** argv) {
       } catch (const std::exception& e) {
         std::cerr << "frame " << i << ": " << e.what() << "\n";
       }
-      const TrackingResult r = tracking.track_rgbd(rgb, depth, dataset.frames()[i].rgb_stamp);
-      if (r.pose_valid) trajectory.emplace_back(dataset.frames()[i].rgb_stamp, r.T_cw.inverse());
+      const TrackingResult r = slam.track_rgbd(rgb, depth, dataset.frames()[i].rgb_stamp);
       if (!r.message.empty() && (i < 3 || r.state != TrackingState::kOk))
         std::cerr << "frame " << i << " [" << to_string(r.state) << "]: " << r.message << "\n";
       if (r.relocalized) std::cerr << "frame " << i << ": relocalized\n";
@@ -142,7 +170,9 @@ int main(int argc, char** argv) {
                   << map->num_map_points() << "  inliers " << r.inliers << "  " << std::fixed
                   << std::setprecision(1) << r.time_ms << " ms\n";
     }
-
+    if (!slam.finish(120.0)) std::cerr << "edge_slam_run: mapping/loop closing did not finish within 120 s\n";
+    const auto trajectory = slam.trajectory();
+    Tracking& tracking = slam.tracking();
     write_tum_trajectory(out_dir + "/trajectory.txt", trajectory);
     write_keyframes(out_dir + "/keyframes.txt", *map);
     const TrackingCounters& c = tracking.counters();
@@ -150,7 +180,7 @@ int main(int argc, char** argv) {
     const TimingStats cpu = summarize_times(tracking.frame_cpu_times_ms());
     std::ofstream m(out_dir + "/metrics.json");
     m << std::fixed << std::setprecision(3) << "{\n"
-      << "  \"mode\": \"monolithic\",\n"
+      << "  \"mode\": \"" << (no_mapping ? "tracking-only" : "monolithic") << "\",\n"
       << "  \"dataset\": \"" << dataset_dir << "\",\n"
       << "  \"frames\": " << processed << ",\n"
       << "  \"every\": " << every << ",\n"
@@ -160,17 +190,39 @@ int main(int argc, char** argv) {
       << "  \"rejected_inputs\": " << c.rejected_inputs << ",\n"
       << "  \"keyframes\": " << map->num_keyframes() << ",\n"
       << "  \"map_points\": " << map->num_map_points() << ",\n"
-      << "  \"tracking_ms\": {\"mean\": " << t.mean << ", \"median\": " << t.median << ", \"p95\": " << t.p95
-      << ", \"max\": " << t.max << "},\n"
-      << "  \"tracking_cpu_ms\": {\"mean\": " << cpu.mean << ", \"median\": " << cpu.median << ", \"p95\": " << cpu.p95
-      << ", \"max\": " << cpu.max << "}\n"
-      << "}\n";
+      << "  \"loops_closed\": " << (slam.loop_closing() ? slam.loop_closing()->loops_closed() : 0) << ",\n"
+      << "  \"full_ba_runs\": " << (slam.loop_closing() ? slam.loop_closing()->full_ba_runs() : 0) << ",\n";
+    if (const LocalMapping* lm = slam.local_mapping()) {
+      const LocalMappingStats s = lm->stats();
+      m << "  \"local_mapping\": {\"keyframes_processed\": " << s.keyframes_processed
+        << ", \"keyframes_skipped\": " << s.keyframes_skipped << ", \"points_created\": " << s.points_created
+        << ", \"points_culled\": " << s.points_culled << ", \"points_fused\": " << s.points_fused
+        << ", \"keyframes_culled\": " << s.keyframes_culled << ", \"local_ba_runs\": " << s.local_ba_runs
+        << ", \"local_ba_aborted\": " << s.local_ba_aborted << ", \"local_ba_failed\": " << s.local_ba_failed << "},\n";
+      write_timing(m, "local_mapping_ms", lm->process_times_ms());
+      write_timing(m, "local_ba_ms", lm->local_ba_times_ms());
+    }
+    if (const LoopClosing* lc = slam.loop_closing()) {
+      write_timing(m, "loop_detection_ms", lc->detection_times_ms());
+      write_timing(m, "loop_correction_ms", lc->correction_times_ms());
+      write_timing(m, "full_ba_ms", lc->full_ba_times_ms());
+      m << "  \"loops\": [";
+      const auto loops = lc->loops();
+      for (size_t k = 0; k < loops.size(); ++k)
+        m << (k ? ", " : "") << "{\"kf\": " << loops[k].current_kf_id << ", \"loop_kf\": " << loops[k].loop_kf_id
+          << ", \"matches\": " << loops[k].matches << "}";
+      m << "],\n";
+    }
+    write_timing(m, "tracking_cpu_ms", tracking.frame_cpu_times_ms());
+    write_timing(m, "tracking_ms", tracking.frame_times_ms(), true);
+    m << "}\n";
     if (!m) throw std::runtime_error("cannot write '" + out_dir + "/metrics.json'");
     std::cout << "frames " << processed << ", tracked " << c.frames_tracked << ", lost " << c.times_lost
               << " times, relocalized " << c.relocalizations << ", keyframes " << map->num_keyframes()
-              << ", map points " << map->num_map_points() << ", tracking ms median " << std::fixed << std::setprecision(1)
-              << t.median << " p95 " << t.p95 << " max " << t.max << " (cpu median " << cpu.median << " p95 " << cpu.p95
-              << ")\n"
+              << ", map points " << map->num_map_points() << ", loops closed "
+              << (slam.loop_closing() ? slam.loop_closing()->loops_closed() : 0) << ", tracking ms median "
+              << std::fixed << std::setprecision(1) << t.median << " p95 " << t.p95 << " max " << t.max
+              << " (cpu median " << cpu.median << " p95 " << cpu.p95 << ")\n"
               << "wrote " << out_dir << "/{trajectory.txt,keyframes.txt,metrics.json}\n";
   } catch (const std::exception& e) {
     std::cerr << "edge_slam_run: error: " << e.what() << "\n";

@@ -34,6 +34,18 @@ void KeyFrame::set_pose(const Eigen::Isometry3d& T_cw) {
   T_cw_ = T_cw;
 }
 
+void KeyFrame::set_bad_relative_to_parent(const Eigen::Isometry3d& T_cp) {
+  {
+    std::lock_guard<std::mutex> lock(pose_mutex_);
+    T_cp_ = T_cp;
+  }
+  bad_ = true;
+}
+Eigen::Isometry3d KeyFrame::T_cp() const {
+  std::lock_guard<std::mutex> lock(pose_mutex_);
+  return T_cp_;
+}
+
 void KeyFrame::compute_bow(const BowVocabulary& vocabulary) {
   if (has_bow_) return;
   vocabulary.transform(features_->descriptors, bow_, feature_vector_, 4);
@@ -64,7 +76,7 @@ std::vector<std::shared_ptr<MapPoint>> KeyFrame::map_points(const Map& map) cons
 int KeyFrame::tracked_map_points(const Map& map, int min_obs) const {
   int n = 0;
   for (const auto& mp : map_points(map))
-    if (mp && mp->num_observations() >= min_obs) ++n;
+    if (mp && mp->weighted_observations(map) >= min_obs) ++n;
   return n;
 }
 

@@ -8,7 +8,9 @@ bool relocalization_gap_passed(const KeyFrameDecisionParams& p, const KeyFrameDe
 }
 
 bool keyframe_gap_or_mapper_idle(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {
-  return in.mapper_idle ||
+  const bool weak_tracking = in.tracked_points < p.weak_ratio * in.reference_tracked_points ||
+                             needs_close_points(p, in);
+  return in.mapper_idle || weak_tracking ||
          in.frame_id >= in.last_keyframe_frame_id + static_cast<uint64_t>(p.max_frames_between_keyframes);
 }
 

@@ -65,7 +65,8 @@ class KeyFrame {
   void erase_map_point_id(size_t i);
   // Resolved through the map: null where there is no (good) point.
   std::vector<std::shared_ptr<MapPoint>> map_points(const Map& map) const;
-  // Number of good points with at least `min_obs` observations.
+  // Number of good points with at least `min_obs` observations (weighted: a keypoint
+  // with depth counts twice, as in ORB-SLAM2's RGB-D keyframe decision).
   int tracked_map_points(const Map& map, int min_obs) const;
 
   // --- covisibility graph ---
@@ -95,6 +96,10 @@ class KeyFrame {
 
   bool is_bad() const { return bad_; }
   void set_bad() { bad_ = true; }
+  // Culling: marks the keyframe bad and keeps its pose relative to its (new) spanning-tree
+  // parent, T_cp = T_cw * T_pw^-1, so frames that referred to it can still be placed later.
+  void set_bad_relative_to_parent(const Eigen::Isometry3d& T_cp);
+  Eigen::Isometry3d T_cp() const;
 
   std::vector<size_t> features_in_area(float x, float y, float r, int min_level = -1,
                                        int max_level = -1) const {
@@ -112,6 +117,7 @@ class KeyFrame {
 
   mutable std::mutex pose_mutex_;
   Eigen::Isometry3d T_cw_;
+  Eigen::Isometry3d T_cp_ = Eigen::Isometry3d::Identity();
 
   BowVector bow_;
   FeatureVector feature_vector_;

@@ -50,6 +50,9 @@ class MapPoint {
   void clear_observations();
   std::map<uint32_t, int> observations() const;
   int num_observations() const;
+  // Observations counted as ORB-SLAM2 does for RGB-D: 2 for a keypoint with depth (a
+  // virtual stereo measurement), 1 otherwise; observing keyframes missing from `map` count 1.
+  int weighted_observations(const Map& map) const;
   int index_in(uint32_t kf_id) const;  // -1 when not observed by that keyframe
 
   uint32_t reference_kf_id() const;
@@ -64,6 +67,10 @@ class MapPoint {
 
   bool is_bad() const { return bad_; }
   void set_bad() { bad_ = true; }
+  // Id of the point that replaced this one after a fusion (kNoId if none), so holders of
+  // a stale pointer can follow it.
+  uint32_t replaced_by() const { return replaced_by_; }
+  void set_replaced_by(uint32_t id) { replaced_by_ = id; }
 
   // Recompute from the observing keyframes held in `map` (missing ones are skipped):
   // the descriptor with least median distance to the others, and the mean viewing normal
@@ -85,6 +92,7 @@ class MapPoint {
 
   std::atomic<int> visible_{1}, found_{1};
   std::atomic<bool> bad_{false};
+  std::atomic<uint32_t> replaced_by_{0xffffffffu};
 };
 
 }  // namespace edge_slam

@@ -2,7 +2,10 @@
 // separate predicate so that the split system can evaluate 1-2 on the edge (where the
 // mapper's state is known) and 3-5 on the mobile (where the tracking statistics are).
 //   (1) at least N frames have passed since the last relocalization;
-//   (2) at least M frames since the last keyframe, or the local mapper is idle;
+//   (2) at least M frames since the last keyframe, or the local mapper is idle, or (ORB-SLAM2
+//       RGB-D, c1c) tracking is weak: fewer than weak_ratio x the reference keyframe's points
+//       or close points needed as in (5) - then a busy mapper gets the keyframe anyway (its
+//       local BA is aborted), which is what lets tracking survive a fast turn;
 //   (3) the frame tracks at least K points;
 //   (4) it tracks fewer than ref_ratio x the points of its reference keyframe;
 //   (5) it tracks fewer than C close points and could create more than D new close ones.
@@ -20,6 +23,7 @@ struct KeyFrameDecisionParams {
   double ref_ratio = 0.9;                    // (4) paper: 0.9 (ORB-SLAM2 RGB-D code: 0.75)
   int close_points_tracked = 100;            // (5) ORB-SLAM2: 100
   int close_points_new = 70;                 // (5) ORB-SLAM2: 70
+  double weak_ratio = 0.25;                  // (2) ORB-SLAM2 RGB-D c1c: 0.25
 };
 
 struct KeyFrameDecisionInput {

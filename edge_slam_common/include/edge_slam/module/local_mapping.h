@@ -1,0 +1,116 @@
+// Local-Mapping (ORB-SLAM2's LocalMapping; on the edge in the split system): its own thread
+// takes new keyframes from a queue and, per keyframe, (1) finishes its insertion (BoW, point
+// observations, normals/descriptors, covisibility, spanning tree, keyframe database),
+// (2) culls recent map points, (3) triangulates new points with its covisibles, and when
+// no other keyframe waits (4) fuses duplicates with the neighbours, (5) runs local BA
+// (aborted when a keyframe arrives) and (6) culls redundant keyframes. Processed keyframes
+// are handed to on_keyframe_processed (the loop closer's queue).
+// Loop correction pauses it with request_stop() / wait_until_stopped() / release().
+#pragma once
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "edge_slam/data/keyframe.h"
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/data/map.h"
+#include "edge_slam/module/keyframe_culling.h"
+#include "edge_slam/module/map_point_culling.h"
+#include "edge_slam/module/triangulation.h"
+#include "edge_slam/util/bounded_queue.h"
+
+namespace edge_slam {
+
+class BowVocabulary;
+
+struct LocalMappingParams {
+  MapPointCullingParams point_culling;
+  TriangulationParams triangulation;
+  KeyFrameCullingParams keyframe_culling;
+  bool local_ba = true;
+  bool cull_keyframes = true;
+  size_t queue_capacity = 1000;  // large: an evicted keyframe would never be processed
+};
+
+struct LocalMappingStats {
+  int keyframes_processed = 0;
+  int keyframes_skipped = 0;  // bad / erased while queued
+  int points_culled = 0;
+  int points_created = 0;
+  int points_fused = 0;
+  int keyframes_culled = 0;
+  int local_ba_runs = 0;
+  int local_ba_aborted = 0;
+  int local_ba_failed = 0;
+};
+
+class LocalMapping {
+ public:
+  LocalMapping(std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
+               std::shared_ptr<const BowVocabulary> vocabulary, const LocalMappingParams& params = {});
+  ~LocalMapping();
+
+  void start();  // launches the thread
+  // Closes the queue; with drain the remaining keyframes are processed first. Joins.
+  void shutdown(bool drain = true);
+
+  // Queues a keyframe (already inserted in the map by tracking) and aborts a running local BA.
+  void insert_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  // Synchronous processing of one keyframe (what the thread does per keyframe; tests).
+  void process_keyframe(const std::shared_ptr<KeyFrame>& kf);
+
+  bool idle() const { return idle_; }  // nothing queued and nothing being processed
+  size_t queued() const { return queue_.size(); }
+  // Waits (bounded) until the queue is empty and the current keyframe done.
+  bool wait_until_idle(double timeout_s) const;
+
+  // Pause protocol for loop correction.
+  void request_stop();
+  bool wait_until_stopped(double timeout_s) const;  // true once paused (or not running)
+  void release();
+  bool stopped() const { return stopped_; }
+
+  // Keyframe condition 2 (Tracking::set_mapper_idle) and the loop closer's input.
+  std::function<void(bool idle)> on_idle_changed;
+  std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_processed;
+
+  LocalMappingStats stats() const;
+  std::vector<double> process_times_ms() const;  // whole keyframe processing
+  std::vector<double> local_ba_times_ms() const;
+
+ private:
+  void run();
+  void set_idle(bool idle);
+  bool new_keyframes_waiting() const { return queue_.size() > 0; }
+  void finish_insertion(const std::shared_ptr<KeyFrame>& kf);
+  void run_local_ba(const std::shared_ptr<KeyFrame>& kf);
+  void pause_if_requested();
+
+  std::shared_ptr<Map> map_;
+  std::shared_ptr<KeyFrameDatabase> database_;
+  std::shared_ptr<const BowVocabulary> vocabulary_;
+  LocalMappingParams params_;
+  BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
+  RecentMapPoints recent_;
+  std::thread thread_;
+  std::atomic<bool> running_{false};
+  std::atomic<bool> busy_{false};
+  std::atomic<bool> idle_{true};
+  std::atomic<bool> abort_ba_{false};
+
+  mutable std::mutex pause_mutex_;
+  mutable std::condition_variable pause_cv_;
+  bool stop_requested_ = false;
+  std::atomic<bool> stopped_{false};
+
+  mutable std::mutex stats_mutex_;
+  LocalMappingStats stats_;
+  std::vector<double> process_ms_, local_ba_ms_;
+};
+
+}  // namespace edge_slam

@@ -1,0 +1,91 @@
+// Loop-Closing (ORB-SLAM2's LoopClosing; on the edge in the split system): its own thread
+// takes the keyframes local mapping has processed, detects loop candidates (LoopDetector),
+// verifies them geometrically (verify_loop), corrects the loop with local mapping paused
+// (correct_loop) and then runs a full bundle adjustment in a background thread; a newer
+// loop aborts a running full BA. Each closed loop is logged as
+//   "loop closed: KF <current> <-> KF <loop>, <n> matches".
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "edge_slam/data/keyframe.h"
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/data/map.h"
+#include "edge_slam/module/loop_corrector.h"
+#include "edge_slam/module/loop_detector.h"
+#include "edge_slam/module/loop_verifier.h"
+#include "edge_slam/util/bounded_queue.h"
+
+namespace edge_slam {
+
+class LocalMapping;
+
+struct LoopClosingParams {
+  LoopDetectorParams detector;
+  LoopVerifierParams verifier;
+  LoopCorrectionParams correction;
+  bool full_ba = true;
+  int full_ba_iterations = 10;  // ORB-SLAM2: 10
+  bool full_ba_in_background = true;  // false: run it inline (tests)
+  double mapper_stop_timeout_s = 10.0;
+  size_t queue_capacity = 1000;
+};
+
+struct LoopEvent {
+  uint32_t current_kf_id = 0, loop_kf_id = 0;
+  int matches = 0;
+  LoopCorrectionReport correction;
+};
+
+class LoopClosing {
+ public:
+  // local_mapping may be null (then nothing is paused: single-threaded use and tests).
+  LoopClosing(std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
+              LocalMapping* local_mapping, const LoopClosingParams& params = {});
+  ~LoopClosing();
+
+  void start();
+  void shutdown(bool drain = true);  // also waits for a running full BA
+  void insert_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  // Detection + verification + correction for one keyframe; true when a loop was closed.
+  bool process_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  // Waits (bounded) for the queue to drain and a full BA to finish.
+  bool wait_until_idle(double timeout_s) const;
+
+  int loops_closed() const;
+  std::vector<LoopEvent> loops() const;
+  int full_ba_runs() const;
+  std::vector<double> detection_times_ms() const;   // detection + verification per keyframe
+  std::vector<double> correction_times_ms() const;
+  std::vector<double> full_ba_times_ms() const;
+
+ private:
+  void run();
+  void run_full_ba(uint32_t loop_kf_id);
+  void stop_full_ba();
+
+  std::shared_ptr<Map> map_;
+  std::shared_ptr<KeyFrameDatabase> database_;
+  LocalMapping* local_mapping_;
+  LoopClosingParams params_;
+  LoopDetector detector_;
+  BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
+  std::thread thread_;
+  std::atomic<bool> busy_{false};
+  bool debug_;  // EDGE_SLAM_DEBUG_LOOP set: one line per keyframe on detection
+
+  std::thread full_ba_thread_;
+  std::atomic<bool> full_ba_running_{false};
+  std::atomic<bool> abort_full_ba_{false};
+
+  mutable std::mutex stats_mutex_;
+  std::vector<LoopEvent> loops_;
+  int full_ba_runs_ = 0;
+  std::vector<double> detect_ms_, correct_ms_, full_ba_ms_;
+};
+
+}  // namespace edge_slam

@@ -1,0 +1,38 @@
+// Loop correction (ORB-SLAM2's CorrectLoop with SE(3) instead of Sim(3), RGB-D): the current
+// keyframe's covisible group and their points are moved by the verified loop transform,
+// duplicates with the loop side are fused (loop points win), the new loop links are found,
+// the essential graph (spanning tree + covisibility >= 100 + previous loop edges + new loop
+// links; loop keyframe fixed) is optimised, and every other map point follows the keyframe
+// it was corrected with (else its reference keyframe). Finally the loop edge is recorded.
+// The caller has paused local mapping and holds Map::update_mutex().
+#pragma once
+#include <memory>
+#include <string>
+
+#include "edge_slam/data/keyframe.h"
+#include "edge_slam/data/map.h"
+#include "edge_slam/module/loop_verifier.h"
+#include "edge_slam/optimize/pose_graph.h"
+
+namespace edge_slam {
+
+struct LoopCorrectionParams {
+  int essential_min_weight = 100;  // covisibility edges in the essential graph (ORB-SLAM2: 100)
+  float fuse_window = 4.f;         // ORB-SLAM2 loop SearchAndFuse: 4
+  PoseGraphOptions pose_graph;
+};
+
+struct LoopCorrectionReport {
+  bool ok = false;
+  std::string message;
+  int group_keyframes = 0;
+  int fused_points = 0;
+  int new_loop_links = 0;
+  int graph_edges = 0;
+  double graph_initial_cost = 0, graph_final_cost = 0;
+};
+
+LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
+                                  const LoopCorrectionParams& params = {});
+
+}  // namespace edge_slam

@@ -1,0 +1,48 @@
+// Loop candidate detection with temporal consistency (ORB-SLAM2's DetectLoop): BoW candidates
+// scoring at least the lowest score between the keyframe and its covisibles; a candidate's
+// covisible group must overlap the groups of the previous detections `consistency` times in
+// a row before it is handed on for geometric verification.
+#pragma once
+#include <memory>
+#include <set>
+#include <vector>
+
+#include "edge_slam/data/keyframe.h"
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/data/map.h"
+
+namespace edge_slam {
+
+struct LoopDetectorParams {
+  uint32_t min_keyframes_after_loop = 10;  // no detection right after a loop (ORB-SLAM2: 10)
+  size_t min_map_keyframes = 10;           // nor in a tiny map
+  int consistency = 3;                     // ORB-SLAM2: 3
+};
+
+class LoopDetector {
+ public:
+  explicit LoopDetector(const LoopDetectorParams& params = {}) : params_(params) {}
+  // Consistent candidates for `kf` (empty most of the time). Updates the group history.
+  std::vector<std::shared_ptr<KeyFrame>> detect(const Map& map, const KeyFrameDatabase& database,
+                                                const std::shared_ptr<KeyFrame>& kf);
+  void set_last_loop_keyframe(uint32_t kf_id) {
+    last_loop_kf_id_ = kf_id;
+    has_loop_ = true;
+  }
+  double last_min_score() const { return last_min_score_; }
+  size_t last_raw_candidates() const { return last_raw_candidates_; }
+
+ private:
+  struct Group {
+    std::set<uint32_t> members;
+    int consistency = 0;
+  };
+  LoopDetectorParams params_;
+  std::vector<Group> groups_;
+  uint32_t last_loop_kf_id_ = 0;
+  bool has_loop_ = false;
+  double last_min_score_ = 0;
+  size_t last_raw_candidates_ = 0;
+};
+
+}  // namespace edge_slam

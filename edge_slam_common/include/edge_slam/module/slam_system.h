@@ -1,0 +1,72 @@
+// Monolithic mode (our ORB-SLAM2 equivalent): Tracking in the caller's thread, Local-Mapping
+// and Loop-Closing in their own threads, all on one Map. Tracking's new keyframes go to the
+// local mapper's queue, the mapper's idle state feeds keyframe condition 2, processed
+// keyframes go to the loop closer. Without local mapping it is tracking only.
+// The trajectory is kept ORB-SLAM2 style: every tracked frame's pose relative to its
+// reference keyframe, composed at the end with that keyframe's final pose (through the
+// spanning tree when it was culled), so loop and BA corrections reach every frame.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "edge_slam/module/local_mapping.h"
+#include "edge_slam/module/loop_closing.h"
+#include "edge_slam/module/tracking.h"
+
+namespace edge_slam {
+
+struct SlamSystemOptions {
+  bool local_mapping = true;
+  bool loop_closing = true;  // needs local_mapping
+  LocalMappingParams mapping;
+  LoopClosingParams loop;
+};
+
+class SlamSystem {
+ public:
+  SlamSystem(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking_params,
+             std::shared_ptr<const BowVocabulary> vocabulary, const SlamSystemOptions& options = {},
+             RgbEncoding encoding = RgbEncoding::kBgr);
+  ~SlamSystem();
+
+  TrackingResult track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp);
+  TrackingResult track_frame(Frame frame);
+
+  // Waits up to timeout_s for the mapping queue to drain, loop closing to finish (full BA
+  // included), then stops the threads. False when the wait timed out (work was cut short).
+  bool finish(double timeout_s);
+
+  // T_wc of every tracked frame (stamp, pose), from the current keyframe poses.
+  std::vector<std::pair<double, Eigen::Isometry3d>> trajectory() const;
+
+  Tracking& tracking() { return *tracking_; }
+  const Map& map() const { return *map_; }
+  std::shared_ptr<Map> map_ptr() const { return map_; }
+  const LocalMapping* local_mapping() const { return mapping_.get(); }
+  const LoopClosing* loop_closing() const { return loop_.get(); }
+
+ private:
+  struct FrameRecord {
+    double stamp;
+    std::shared_ptr<KeyFrame> reference;
+    Eigen::Isometry3d T_c_ref;
+  };
+  TrackingResult record(const TrackingResult& r, double stamp);
+  std::shared_ptr<KeyFrame> keyframe_ever(uint32_t id) const;
+
+  std::shared_ptr<Map> map_;
+  std::shared_ptr<KeyFrameDatabase> database_;
+  std::unique_ptr<Tracking> tracking_;
+  std::unique_ptr<LocalMapping> mapping_;
+  std::unique_ptr<LoopClosing> loop_;
+  bool finished_ = false;
+
+  mutable std::mutex records_mutex_;
+  std::vector<FrameRecord> frames_;
+  std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> all_keyframes_;  // culled ones too
+};
+
+}  // namespace edge_slam

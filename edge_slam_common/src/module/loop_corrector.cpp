@@ -1,0 +1,182 @@
+#include "edge_slam/module/loop_corrector.h"
+
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "edge_slam/data/map_edit.h"
+#include "edge_slam/match/keyframe_search.h"
+
+namespace edge_slam {
+namespace {
+
+using PoseById = std::unordered_map<uint32_t, Eigen::Isometry3d>;
+
+// Essential graph edges; measurements from `measured` poses except the new loop links,
+// which take the corrected current poses (they are what the loop tells us).
+std::vector<PoseGraphEdge> essential_edges(const Map& map, const std::vector<std::shared_ptr<KeyFrame>>& kfs,
+                                           const PoseById& measured,
+                                           const std::map<uint32_t, std::set<uint32_t>>& loop_links,
+                                           uint32_t current_id, uint32_t loop_id, int min_weight) {
+  std::vector<PoseGraphEdge> edges;
+  std::set<std::pair<uint32_t, uint32_t>> inserted;
+  auto key = [](uint32_t a, uint32_t b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  auto add = [&](uint32_t i, const Eigen::Isometry3d& Ti, uint32_t j, const Eigen::Isometry3d& Tj) {
+    if (i == j || !inserted.insert(key(i, j)).second) return;
+    edges.push_back(make_relative_pose_edge(i, Ti, j, Tj));
+  };
+  for (const auto& [i, links] : loop_links) {
+    const auto ki = map.keyframe(i);
+    if (!ki) continue;
+    for (uint32_t j : links) {
+      const auto kj = map.keyframe(j);
+      if (!kj || kj->is_bad()) continue;
+      if (!(i == current_id && j == loop_id) && ki->weight(j) < min_weight) continue;
+      add(i, ki->T_cw(), j, kj->T_cw());
+    }
+  }
+  for (const auto& kf : kfs) {
+    const uint32_t i = kf->id();
+    const Eigen::Isometry3d& Ti = measured.at(i);
+    const uint32_t parent = kf->parent_id();
+    if (parent != kNoId && measured.count(parent)) add(i, Ti, parent, measured.at(parent));
+    for (uint32_t j : kf->loop_edges())
+      if (j < i && measured.count(j)) add(i, Ti, j, measured.at(j));
+    const auto children = kf->children();
+    for (uint32_t j : kf->covisibles_with_weight(min_weight)) {
+      if (j == parent || children.count(j) || !measured.count(j) || j > i) continue;
+      add(i, Ti, j, measured.at(j));
+    }
+  }
+  return edges;
+}
+
+}  // namespace
+
+LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
+                                  const LoopCorrectionParams& params) {
+  LoopCorrectionReport report;
+  if (kf->is_bad() || !loop.loop_kf || loop.loop_kf->is_bad()) {
+    report.message = "a keyframe of the loop went bad before correction";
+    return report;
+  }
+  kf->update_connections(map);
+
+  // 1. Corrected poses of the current keyframe's covisible group.
+  std::vector<std::shared_ptr<KeyFrame>> group{kf};
+  for (uint32_t id : kf->ordered_neighbours()) {
+    auto g = map.keyframe(id);
+    if (g && !g->is_bad()) group.push_back(std::move(g));
+  }
+  const Eigen::Isometry3d T_wc_current = kf->T_wc();
+  PoseById uncorrected, corrected;
+  for (const auto& g : group) {
+    uncorrected[g->id()] = g->T_cw();
+    corrected[g->id()] = g == kf ? loop.T_cw_corrected : g->T_cw() * T_wc_current * loop.T_cw_corrected;
+  }
+  // 2. Their points move with the keyframe they are first found through.
+  std::unordered_map<uint32_t, uint32_t> corrected_by;  // point id -> keyframe id
+  for (const auto& g : group) {
+    const Eigen::Isometry3d move = corrected[g->id()].inverse() * uncorrected[g->id()];
+    for (const auto& mp : g->map_points(map)) {
+      if (!mp || !corrected_by.emplace(mp->id(), g->id()).second) continue;
+      mp->set_position(move * mp->position());
+    }
+  }
+  for (const auto& g : group) g->set_pose(corrected[g->id()]);
+  for (const auto& [mp_id, kf_id] : corrected_by)
+    if (auto mp = map.map_point(mp_id)) mp->update_normal_and_depth(map);
+
+  // 3. Loop fusion: the verified matches, then the loop group's points into the whole group.
+  for (size_t i = 0; i < loop.matched.size(); ++i) {
+    const auto& loop_mp = loop.matched[i];
+    if (!loop_mp || loop_mp->is_bad()) continue;
+    const uint32_t cur_id = kf->map_point_id(i);
+    const auto cur = cur_id == kNoId ? nullptr : map.map_point(cur_id);
+    if (cur && !cur->is_bad()) {
+      if (cur != loop_mp) replace_map_point(map, cur, loop_mp);
+    } else if (loop_mp->index_in(kf->id()) < 0) {
+      add_observation(kf, i, loop_mp);
+      loop_mp->update_descriptor(map);
+    }
+    ++report.fused_points;
+  }
+  FuseOptions fuse_options;
+  fuse_options.th = params.fuse_window;
+  fuse_options.projected_wins = true;
+  fuse_options.check_reprojection = false;
+  for (const auto& g : group)
+    if (!g->is_bad()) report.fused_points += fuse(map, g, g->T_cw(), loop.loop_points, fuse_options);
+
+  // 4. New links created by the fusion (not within the group, not old neighbours).
+  std::set<uint32_t> group_ids;
+  for (const auto& g : group) group_ids.insert(g->id());
+  std::map<uint32_t, std::set<uint32_t>> loop_links;
+  for (const auto& g : group) {
+    if (g->is_bad()) continue;
+    const auto before = g->ordered_neighbours();
+    g->update_connections(map);
+    std::set<uint32_t> links;
+    for (uint32_t id : g->ordered_neighbours()) links.insert(id);
+    for (uint32_t id : before) links.erase(id);
+    for (uint32_t id : group_ids) links.erase(id);
+    if (!links.empty()) loop_links[g->id()] = links;
+    report.new_loop_links += static_cast<int>(links.size());
+  }
+  loop_links[kf->id()].insert(loop.loop_kf->id());
+
+  // 5. Essential graph over all keyframes, loop keyframe fixed.
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  for (auto& k : map.keyframes())
+    if (!k->is_bad()) kfs.push_back(std::move(k));
+  PoseById measured, before_graph;
+  PoseGraphProblem problem;
+  for (const auto& k : kfs) {
+    const Eigen::Isometry3d T = k->T_cw();
+    before_graph[k->id()] = T;
+    const auto it = uncorrected.find(k->id());
+    measured[k->id()] = it != uncorrected.end() ? it->second : T;
+    PoseGraphVertex v;
+    v.id = k->id();
+    v.T_cw = T;
+    v.fixed = k->id() == loop.loop_kf->id();
+    problem.vertices.push_back(v);
+  }
+  problem.edges = essential_edges(map, kfs, measured, loop_links, kf->id(), loop.loop_kf->id(),
+                                  params.essential_min_weight);
+  report.graph_edges = static_cast<int>(problem.edges.size());
+  const PoseGraphResult graph = optimize_pose_graph(problem, params.pose_graph);
+  report.graph_initial_cost = graph.initial_cost;
+  report.graph_final_cost = graph.final_cost;
+  if (graph.ok) {
+    PoseById after;
+    for (const auto& v : graph.vertices) after[v.id] = v.T_cw;
+    for (const auto& k : kfs) k->set_pose(after[k->id()]);
+    // 6. Points follow their correcting (else reference, else any observing) keyframe.
+    for (const auto& mp : map.map_points()) {
+      if (mp->is_bad()) continue;
+      uint32_t ref = kNoId;
+      const auto cb = corrected_by.find(mp->id());
+      if (cb != corrected_by.end() && after.count(cb->second)) ref = cb->second;
+      if (ref == kNoId && after.count(mp->reference_kf_id())) ref = mp->reference_kf_id();
+      if (ref == kNoId)
+        for (const auto& [obs_kf, idx] : mp->observations())
+          if (after.count(obs_kf)) {
+            ref = obs_kf;
+            break;
+          }
+      if (ref == kNoId) continue;
+      mp->set_position(after[ref].inverse() * (before_graph[ref] * mp->position()));
+      mp->update_normal_and_depth(map);
+    }
+  }
+  kf->add_loop_edge(loop.loop_kf->id());
+  loop.loop_kf->add_loop_edge(kf->id());
+  report.group_keyframes = static_cast<int>(group.size());
+  report.ok = graph.ok;
+  report.message = graph.ok ? "essential graph: " + graph.message
+                            : "essential graph failed (" + graph.message + "); group correction kept";
+  return report;
+}
+
+}  // namespace edge_slam

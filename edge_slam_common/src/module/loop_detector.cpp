@@ -1,0 +1,65 @@
+#include "edge_slam/module/loop_detector.h"
+
+#include <algorithm>
+
+#include "edge_slam/data/bow_vocabulary.h"
+
+namespace edge_slam {
+
+std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, const KeyFrameDatabase& database,
+                                                            const std::shared_ptr<KeyFrame>& kf) {
+  last_raw_candidates_ = 0;
+  if (!kf->has_bow() || kf->is_bad()) return {};
+  if (map.num_keyframes() < params_.min_map_keyframes) return {};
+  if (has_loop_ && kf->id() < last_loop_kf_id_ + params_.min_keyframes_after_loop) return {};
+
+  // The loop must look at least as similar as the keyframe's own neighbours do.
+  double min_score = 1.0;
+  for (uint32_t id : kf->ordered_neighbours()) {
+    const auto nb = map.keyframe(id);
+    if (!nb || nb->is_bad() || !nb->has_bow()) continue;
+    min_score = std::min(min_score, BowVocabulary::score(kf->bow(), nb->bow()));
+  }
+  last_min_score_ = min_score;
+  // Only keyframes older than this one: tracking indexes keyframes before local mapping has
+  // linked them, so a newer one may look unconnected without being a loop.
+  auto candidates = database.detect_loop_candidates(kf, min_score, map);
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const std::shared_ptr<KeyFrame>& c) { return c->id() >= kf->id(); }),
+                   candidates.end());
+  last_raw_candidates_ = candidates.size();
+  if (candidates.empty()) {
+    groups_.clear();
+    return {};
+  }
+
+  std::vector<std::shared_ptr<KeyFrame>> consistent;
+  std::vector<Group> current;
+  std::vector<bool> extended(groups_.size(), false);
+  for (const auto& cand : candidates) {
+    Group g;
+    g.members.insert(cand->id());
+    for (uint32_t id : cand->ordered_neighbours()) g.members.insert(id);
+    bool enough = false, overlaps_any = false;
+    for (size_t k = 0; k < groups_.size(); ++k) {
+      const bool overlap = std::any_of(g.members.begin(), g.members.end(),
+                                       [&](uint32_t id) { return groups_[k].members.count(id) > 0; });
+      if (!overlap) continue;
+      overlaps_any = true;
+      const int c = groups_[k].consistency + 1;
+      if (!extended[k]) {
+        current.push_back(Group{g.members, c});
+        extended[k] = true;
+      }
+      if (c >= params_.consistency && !enough) {
+        consistent.push_back(cand);
+        enough = true;
+      }
+    }
+    if (!overlaps_any) current.push_back(Group{g.members, 0});
+  }
+  groups_ = std::move(current);
+  return consistent;
+}
+
+}  // namespace edge_slam

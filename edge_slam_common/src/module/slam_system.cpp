@@ -1,0 +1,99 @@
+#include "edge_slam/module/slam_system.h"
+
+#include <chrono>
+
+namespace edge_slam {
+
+SlamSystem::SlamSystem(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking_params,
+                       std::shared_ptr<const BowVocabulary> vocabulary, const SlamSystemOptions& options,
+                       RgbEncoding encoding)
+    : map_(std::make_shared<Map>()), database_(std::make_shared<KeyFrameDatabase>()) {
+  tracking_ = std::make_unique<Tracking>(camera, orb, tracking_params, map_, database_, vocabulary, encoding);
+  if (options.local_mapping) {
+    mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary, options.mapping);
+    if (options.loop_closing && vocabulary) {
+      loop_ = std::make_unique<LoopClosing>(map_, database_, mapping_.get(), options.loop);
+      mapping_->on_keyframe_processed = [this](const std::shared_ptr<KeyFrame>& kf) { loop_->insert_keyframe(kf); };
+    }
+    mapping_->on_idle_changed = [this](bool idle) { tracking_->set_mapper_idle(idle); };
+  }
+  tracking_->set_mapper_idle(true);
+  tracking_->on_new_keyframe = [this](const std::shared_ptr<KeyFrame>& kf) {
+    {
+      std::lock_guard<std::mutex> lock(records_mutex_);
+      all_keyframes_[kf->id()] = kf;
+    }
+    if (mapping_) mapping_->insert_keyframe(kf);
+  };
+  if (loop_) loop_->start();
+  if (mapping_) mapping_->start();
+}
+
+SlamSystem::~SlamSystem() {
+  if (mapping_) mapping_->shutdown(false);
+  if (loop_) loop_->shutdown(false);
+}
+
+TrackingResult SlamSystem::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
+  return record(tracking_->track_rgbd(color, depth, stamp), stamp);
+}
+
+TrackingResult SlamSystem::track_frame(Frame frame) {
+  const double stamp = frame.stamp;
+  return record(tracking_->track_frame(std::move(frame)), stamp);
+}
+
+TrackingResult SlamSystem::record(const TrackingResult& r, double stamp) {
+  if (!r.pose_valid) return r;
+  const auto& ref = tracking_->last_frame().reference_kf;
+  if (!ref) return r;
+  // Under the map lock, so that no BA moves the reference keyframe while we read it.
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+  std::lock_guard<std::mutex> lock(records_mutex_);
+  frames_.push_back(FrameRecord{stamp, ref, r.T_cw * ref->T_wc()});
+  return r;
+}
+
+bool SlamSystem::finish(double timeout_s) {
+  if (finished_) return true;
+  finished_ = true;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  auto remaining = [&] {
+    return std::max(0.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
+  };
+  bool ok = true;
+  // Mapping feeds loop closing and a full BA pauses mapping: wait until both are quiet.
+  for (int round = 0; round < 3; ++round) {
+    if (mapping_) ok = mapping_->wait_until_idle(remaining()) && ok;
+    if (loop_) ok = loop_->wait_until_idle(remaining()) && ok;
+  }
+  if (mapping_) mapping_->shutdown(ok);
+  if (loop_) loop_->shutdown(ok);
+  return ok;
+}
+
+std::shared_ptr<KeyFrame> SlamSystem::keyframe_ever(uint32_t id) const {
+  const auto it = all_keyframes_.find(id);
+  return it == all_keyframes_.end() ? nullptr : it->second;
+}
+
+std::vector<std::pair<double, Eigen::Isometry3d>> SlamSystem::trajectory() const {
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+  std::lock_guard<std::mutex> lock(records_mutex_);
+  std::vector<std::pair<double, Eigen::Isometry3d>> out;
+  out.reserve(frames_.size());
+  for (const FrameRecord& f : frames_) {
+    std::shared_ptr<KeyFrame> kf = f.reference;
+    Eigen::Isometry3d T_c_kf = f.T_c_ref;
+    // A culled keyframe is placed relative to its parent at culling time.
+    for (int hops = 0; kf && kf->is_bad() && hops < 10000; ++hops) {
+      T_c_kf = T_c_kf * kf->T_cp();
+      kf = keyframe_ever(kf->parent_id());
+    }
+    if (!kf) continue;
+    out.emplace_back(f.stamp, (T_c_kf * kf->T_cw()).inverse());
+  }
+  return out;
+}
+
+}  // namespace edge_slam

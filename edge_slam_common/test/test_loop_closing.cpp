@@ -1,0 +1,140 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <unordered_map>
+
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/module/loop_closing.h"
+#include "synthetic_map.h"
+
+using namespace edge_slam;
+using namespace edge_slam_test;
+
+namespace {
+
+constexpr int kKeyFrames = 44;        // 10 degrees apart: the last 8 revisit the first views
+constexpr double kStep = M_PI / 18;
+constexpr int kPointWindow = 8;       // a point is re-observed up to this many keyframes later
+
+// Points on a vertical cylinder (radius 4 m) around the camera circle.
+World cylinder() {
+  std::vector<Eigen::Vector3d> pts;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (int a = 0; a < 720; ++a)
+    for (int h = 0; h < 4; ++h) {
+      const double ang = a * M_PI / 360 + 0.002 * jitter(rng);
+      const double r = 4.0 + jitter(rng);
+      pts.emplace_back(r * std::sin(ang), -1.2 + 0.8 * h + jitter(rng), r * std::cos(ang));
+    }
+  return World(pts, 23);
+}
+
+Eigen::Isometry3d true_pose(int i) {
+  const double yaw = i * kStep;
+  return look_from(0.5 * Eigen::Vector3d(std::sin(yaw), 0, std::cos(yaw)), yaw);
+}
+
+// Odometry drift growing with every keyframe: yaw and a sideways offset.
+Eigen::Isometry3d drifted_pose(int i) {
+  Eigen::Isometry3d T_wc = true_pose(i).inverse();
+  Eigen::Isometry3d drift = Eigen::Isometry3d::Identity();
+  drift.linear() = Eigen::AngleAxisd(0.0015 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  drift.translation() = Eigen::Vector3d(0.003 * i, 0.0005 * i, -0.002 * i);
+  return (drift * T_wc).inverse();
+}
+
+double position_error(const KeyFrame& kf, int i) {
+  return (kf.camera_center() - true_pose(i).inverse().translation()).norm();
+}
+
+struct Ring {
+  std::shared_ptr<Map> map = std::make_shared<Map>();
+  std::shared_ptr<KeyFrameDatabase> db = std::make_shared<KeyFrameDatabase>();
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+};
+
+// A drifted map as tracking would build it: points are placed with the drifted pose of the
+// keyframe that first sees them; on the way back to the start the old points are not
+// recognised, so duplicates are created.
+Ring build_ring(const World& w) {
+  Ring ring;
+  std::unordered_map<size_t, std::pair<std::shared_ptr<MapPoint>, int>> latest;  // physical -> (point, creator)
+  for (int i = 0; i < kKeyFrames; ++i) {
+    View v;
+    const auto kf = make_keyframe(*ring.map, w, true_pose(i), drifted_pose(i), true, v);
+    for (size_t k = 0; k < v.physical.size(); ++k) {
+      const size_t p = v.physical[k];
+      const auto it = latest.find(p);
+      if (it != latest.end() && i - it->second.second <= kPointWindow) {
+        add_observation(kf, k, it->second.first);
+      } else {
+        const Eigen::Vector3d p_cam = true_pose(i) * w.points[p];
+        latest[p] = {make_point(*ring.map, kf, k, kf->T_wc() * p_cam), i};
+      }
+    }
+    kf->update_connections(*ring.map);
+    ring.kfs.push_back(kf);
+  }
+  for (const auto& mp : ring.map->map_points()) {
+    mp->update_normal_and_depth(*ring.map);
+    mp->update_descriptor(*ring.map);
+  }
+  return ring;
+}
+
+}  // namespace
+
+TEST(LoopClosing, DetectsAndCorrectsInjectedDriftOnARing) {
+  const World w = cylinder();
+  Ring ring = build_ring(w);
+  double before_max = 0, before_last = position_error(*ring.kfs.back(), kKeyFrames - 1);
+  for (int i = 0; i < kKeyFrames; ++i) before_max = std::max(before_max, position_error(*ring.kfs[i], i));
+  const double before_mid = position_error(*ring.kfs[kKeyFrames / 2], kKeyFrames / 2);
+  ASSERT_GT(before_last, 0.1);
+  // No covisibility across the loop before it is closed.
+  EXPECT_EQ(ring.kfs.back()->weight(ring.kfs[0]->id()), 0);
+
+  LoopClosingParams params;
+  params.full_ba_in_background = false;
+  LoopClosing loop(ring.map, ring.db, nullptr, params);
+  int closed_at = -1;
+  for (int i = 0; i < kKeyFrames; ++i) {
+    ring.db->add(ring.kfs[i]);
+    if (loop.process_keyframe(ring.kfs[i]) && closed_at < 0) closed_at = i;
+  }
+  ASSERT_EQ(loop.loops_closed(), 1);
+  EXPECT_GE(closed_at, 30);  // duplicates start once the view overlaps the first keyframe's again
+  const LoopEvent e = loop.loops()[0];
+  EXPECT_LT(e.loop_kf_id, 8u);
+  EXPECT_GE(e.matches, 40);
+  EXPECT_TRUE(e.correction.ok) << e.correction.message;
+  EXPECT_EQ(loop.full_ba_runs(), 1);
+  EXPECT_TRUE(ring.kfs[closed_at]->loop_edges().count(e.loop_kf_id));
+
+  // The error is spread over the whole ring, not only moved to the loop keyframes.
+  double after_max = 0;
+  for (int i = 0; i < kKeyFrames; ++i) after_max = std::max(after_max, position_error(*ring.kfs[i], i));
+  const double after_last = position_error(*ring.kfs.back(), kKeyFrames - 1);
+  const double after_mid = position_error(*ring.kfs[kKeyFrames / 2], kKeyFrames / 2);
+  EXPECT_LT(after_last, 0.1 * before_last) << "last keyframe error " << before_last << " -> " << after_last;
+  EXPECT_LT(after_max, 0.3 * before_max) << "max error " << before_max << " -> " << after_max;
+  EXPECT_LT(after_mid, 0.5 * before_mid) << "middle keyframe error " << before_mid << " -> " << after_mid;
+  // Duplicates at the loop were fused: the loop keyframe and the closing one now share points.
+  EXPECT_GT(ring.kfs[closed_at]->weight(e.loop_kf_id), 15);
+  EXPECT_EQ(loop.correction_times_ms().size(), 1u);
+  EXPECT_EQ(loop.detection_times_ms().size(), static_cast<size_t>(kKeyFrames));
+}
+
+TEST(LoopClosing, NoLoopWithoutRevisit) {
+  const World w = cylinder();
+  Ring ring = build_ring(w);
+  LoopClosingParams params;
+  params.full_ba_in_background = false;
+  LoopClosing loop(ring.map, ring.db, nullptr, params);
+  for (int i = 0; i < 30; ++i) {  // two thirds of the ring: never back at the start
+    ring.db->add(ring.kfs[i]);
+    EXPECT_FALSE(loop.process_keyframe(ring.kfs[i]));
+  }
+  EXPECT_EQ(loop.loops_closed(), 0);
+}
