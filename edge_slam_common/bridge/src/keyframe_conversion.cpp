@@ -2,7 +2,7 @@
 #include <edge_slam_bridge/message_conversion.h>
 
 #include "feature_packing.h"
-#include "pose_conversion.h"
+#include <edge_slam_bridge/pose_conversion.h>
 
 namespace edge_slam {
 

@@ -4,9 +4,18 @@
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
 
 namespace edge_slam {
+
+MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
+  MobileSessionParams p;
+  p.policy.initial_time_constraint = cfg.get_double_or("edge_slam/initial_time_constraint", 0.3, 0.0, 60.0);
+  p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
+  p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
+  return p;
+}
 
 MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
                              std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,

@@ -26,6 +26,11 @@ struct MobileSessionParams {
   size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender
 };
 
+class ConfigMap;
+// The "edge_slam:" section of config/slam.yaml (defaults are the paper's); throws with the key
+// and the valid range on a bad value.
+MobileSessionParams load_mobile_session_params(const ConfigMap& cfg);
+
 struct UpdateOutcome {
   UpdateDecision decision = UpdateDecision::kAccept;
   double rebuild_ms = 0;        // Local-Map clear + rebuild (tracking paused)

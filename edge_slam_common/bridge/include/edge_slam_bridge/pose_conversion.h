@@ -1,8 +1,11 @@
 // geometry_msgs/Pose <-> Eigen::Isometry3d, with the finiteness / unit-quaternion checks a
-// receiver needs before trusting a pose.
+// receiver needs before trusting a pose; and the TF form for publishing poses.
 #pragma once
 #include <Eigen/Geometry>
 #include <geometry_msgs/Pose.h>
+#include <geometry_msgs/TransformStamped.h>
+
+#include <string>
 
 #include <cmath>
 
@@ -34,6 +37,21 @@ inline bool pose_from_message(const geometry_msgs::Pose& p, Eigen::Isometry3d& T
   T.linear() = q.toRotationMatrix();
   T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
   return true;
+}
+
+inline geometry_msgs::TransformStamped transform_to_message(const Eigen::Isometry3d& T_parent_child,
+                                                            const ros::Time& stamp, const std::string& parent,
+                                                            const std::string& child) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  const geometry_msgs::Pose p = pose_to_message(T_parent_child);
+  t.transform.translation.x = p.position.x;
+  t.transform.translation.y = p.position.y;
+  t.transform.translation.z = p.position.z;
+  t.transform.rotation = p.orientation;
+  return t;
 }
 
 }  // namespace edge_slam
