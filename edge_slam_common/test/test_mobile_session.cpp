@@ -7,6 +7,7 @@
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/map_records.h"
+#include "edge_slam/module/edge_session.h"
 #include "edge_slam/module/mobile_session.h"
 #include "edge_slam/sim/renderer.h"
 #include "edge_slam/sim/scene.h"
@@ -155,6 +156,54 @@ TEST(MobileSession, OffersRelocalizationFramesOnlyWhileLostAndAtTheirPeriod) {
   EXPECT_GT(frame->features.size(), 500u);
   EXPECT_FALSE(session.take_relocalization_frame(1.2)) << "within the 0.5 s period";
   EXPECT_TRUE(session.take_relocalization_frame(1.6));
+}
+
+// The whole split without ROS: KeyFrames flow mobile -> edge, the edge maps them and sends
+// Local-Map updates back, the mobile applies them and keeps tracking.
+TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
+  const RenderedSequence& seq = sequence();
+  MobileSession mobile = make_session();
+  EdgeSessionParams edge_params;
+  edge_params.loop_closing = false;  // no loop in 4 s of walking
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, edge_params);
+
+  int applied = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    ASSERT_TRUE(mobile.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+    while (auto r = mobile.outbox().try_pop()) {
+      const KeyFrameVerdict v = edge.receive_keyframe(*r);
+      EXPECT_TRUE(v == KeyFrameVerdict::kInserted || v == KeyFrameVerdict::kRejectedMapperBusy) << to_string(v);
+      EXPECT_EQ(edge.receive_keyframe(*r), KeyFrameVerdict::kDuplicate);
+    }
+    if (i % 15 == 14) {  // "every second": wait for the mapper, then build and send an update
+      ASSERT_TRUE(edge.wait_until_idle(30.0));
+      const std::optional<MapUpdateRecord> update = edge.build_local_map_update(i / 15.0);
+      ASSERT_TRUE(update);
+      EXPECT_LE(update->keyframes.size(), 6u);
+      const UpdateOutcome out = mobile.apply_update(*update, i / 15.0 + 1.0);
+      EXPECT_TRUE(out.error.empty()) << out.error;
+      if (out.decision == UpdateDecision::kAccept) {
+        ++applied;
+        EXPECT_EQ(mobile.local_map_keyframes(), update->keyframes.size());
+      }
+    }
+  }
+  const EdgeCounters c = edge.counters();
+  EXPECT_GE(c.inserted, 3u);
+  EXPECT_EQ(c.duplicates, c.received / 2);
+  EXPECT_GE(applied, 2);
+  EXPECT_EQ(edge.global_map()->num_keyframes(), c.inserted) << "no KeyFrame culled in 4 s";
+  // Points the edge triangulated live in the edge's id space and reached the mobile intact.
+  size_t edge_points = 0;
+  for (const auto& mp : mobile.local_map()->map_points()) edge_points += mp->id() >= kEdgePointIdFirst;
+  EXPECT_GT(edge_points, 0u);
+
+  // A reset on the mobile clears the Global-Map too (paper 4.7.4).
+  ASSERT_TRUE(mobile.reset());
+  const auto reset_record = mobile.outbox().try_pop();
+  ASSERT_TRUE(reset_record);
+  EXPECT_EQ(edge.receive_keyframe(*reset_record), KeyFrameVerdict::kReset);
+  EXPECT_EQ(edge.global_map()->num_keyframes(), 0u);
 }
 
 }  // namespace

@@ -1,0 +1,92 @@
+// The edge side of Edge-SLAM without ROS (paper 4.5, 4.7.3-4.7.5): the Global-Map with
+// Local-Mapping and Loop-Closing threads; received KeyFrame records are always taken (never
+// blocking the receiver) and inserted if KeyFrame conditions 1-2 hold; the Local-Map Update
+// Module packs the `update_size` most recently inserted KeyFrames with all their map points;
+// the Relocalization Map Update Module answers a Frame with its KeyFrame-database candidates
+// plus the KeyFrames connected to each. A KeyFrame flagged `reset` clears the Global-Map.
+#pragma once
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_set>
+
+#include "edge_slam/data/keyframe_database.h"
+#include "edge_slam/data/map.h"
+#include "edge_slam/io/wire_records.h"
+#include "edge_slam/module/local_mapping.h"
+#include "edge_slam/module/loop_closing.h"
+
+namespace edge_slam {
+
+class BowVocabulary;
+class ConfigMap;
+
+struct EdgeSessionParams {
+  int update_size = 6;                      // KeyFrames per Local-Map update (paper: 6)
+  int min_frames_after_relocalization = 20; // condition 1
+  int max_frames_between_keyframes = 20;    // condition 2 (or Local-Mapping idle)
+  size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
+  bool loop_closing = true;
+  LocalMappingParams mapping;
+  LoopClosingParams loop;
+};
+// "edge_slam:" and "tracking:" sections of config/slam.yaml.
+EdgeSessionParams load_edge_session_params(const ConfigMap& cfg);
+
+enum class KeyFrameVerdict { kInserted, kDuplicate, kRejectedAfterRelocalization, kRejectedMapperBusy, kInvalid, kReset };
+const char* to_string(KeyFrameVerdict v);
+
+struct EdgeCounters {
+  uint64_t received = 0, inserted = 0, duplicates = 0, rejected_condition1 = 0, rejected_condition2 = 0;
+  uint64_t invalid = 0, resets = 0, updates_built = 0, relocalization_updates_built = 0;
+  uint64_t last_seq = 0;  // highest KeyFrame seq received (acknowledged in updates)
+};
+
+class EdgeSession {
+ public:
+  EdgeSession(const PinholeCamera& camera, int pyramid_levels, float scale_factor,
+              std::shared_ptr<const BowVocabulary> vocabulary, const EdgeSessionParams& params = {});
+  ~EdgeSession();
+
+  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, std::string* error = nullptr);
+  // Nullopt until a KeyFrame was inserted.
+  std::optional<MapUpdateRecord> build_local_map_update(double now);
+  std::optional<MapUpdateRecord> build_relocalization_update(const FrameRecord& frame, double now,
+                                                             std::string* error = nullptr);
+  // Waits (bounded) for Local-Mapping and Loop-Closing to finish what is queued.
+  bool wait_until_idle(double timeout_s) const;
+
+  EdgeCounters counters() const;
+  std::shared_ptr<const Map> global_map() const { return map_; }
+  int loops_closed() const;
+  bool mapping_idle() const;
+
+ private:
+  void start_modules();
+  void stop_modules();
+  void reset_locked();
+  MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs) const;
+
+  PinholeCamera camera_;
+  std::shared_ptr<const ScalePyramid> pyramid_;
+  std::shared_ptr<const BowVocabulary> vocabulary_;
+  EdgeSessionParams params_;
+  std::shared_ptr<Map> map_;
+  std::shared_ptr<KeyFrameDatabase> database_;
+  std::unique_ptr<LocalMapping> mapping_;
+  std::unique_ptr<LoopClosing> loop_;
+
+  mutable std::mutex mutex_;  // receive / build / reset
+  std::deque<uint32_t> inserted_;        // KeyFrame ids in insertion order
+  std::unordered_set<uint32_t> seen_ids_;
+  uint64_t last_inserted_frame_id_ = 0;
+  bool any_inserted_ = false;
+  uint64_t last_relocalization_frame_id_ = 0;
+  bool relocalization_sent_ = false;
+  uint64_t next_update_seq_ = 1;
+  EdgeCounters counters_;
+};
+
+}  // namespace edge_slam

@@ -1,0 +1,212 @@
+#include "edge_slam/module/edge_session.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/io/config_file.h"
+#include "edge_slam/io/map_records.h"
+
+namespace edge_slam {
+
+const char* to_string(KeyFrameVerdict v) {
+  switch (v) {
+    case KeyFrameVerdict::kInserted: return "inserted";
+    case KeyFrameVerdict::kDuplicate: return "duplicate";
+    case KeyFrameVerdict::kRejectedAfterRelocalization: return "condition 1 (too soon after a relocalization)";
+    case KeyFrameVerdict::kRejectedMapperBusy: return "condition 2 (Local-Mapping busy, too soon after the last KeyFrame)";
+    case KeyFrameVerdict::kInvalid: return "invalid";
+    case KeyFrameVerdict::kReset: return "reset";
+  }
+  return "unknown";
+}
+
+EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
+  EdgeSessionParams p;
+  p.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
+  p.min_frames_after_relocalization = cfg.get_int_or("tracking/min_frames_after_relocalization", 20, 0, 100000);
+  p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 0, 100000);
+  return p;
+}
+
+EdgeSession::EdgeSession(const PinholeCamera& camera, int pyramid_levels, float scale_factor,
+                         std::shared_ptr<const BowVocabulary> vocabulary, const EdgeSessionParams& params)
+    : camera_(camera),
+      pyramid_(std::make_shared<ScalePyramid>(ScalePyramid::make(pyramid_levels, scale_factor))),
+      vocabulary_(std::move(vocabulary)),
+      params_(params),
+      map_(std::make_shared<Map>()),
+      database_(std::make_shared<KeyFrameDatabase>()) {
+  map_->set_map_point_id_space(kEdgePointIdFirst, kNoId);
+  start_modules();
+}
+
+EdgeSession::~EdgeSession() { stop_modules(); }
+
+void EdgeSession::start_modules() {
+  mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary_, params_.mapping);
+  if (params_.loop_closing) {
+    loop_ = std::make_unique<LoopClosing>(map_, database_, mapping_.get(), params_.loop);
+    mapping_->on_keyframe_processed = [this](const std::shared_ptr<KeyFrame>& kf) { loop_->insert_keyframe(kf); };
+    loop_->start();
+  }
+  mapping_->start();
+}
+
+void EdgeSession::stop_modules() {
+  if (mapping_) mapping_->shutdown(false);
+  if (loop_) loop_->shutdown(false);
+  loop_.reset();
+  mapping_.reset();
+}
+
+KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::string* error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counters_.received;
+  counters_.last_seq = std::max(counters_.last_seq, r.seq);
+  if (r.reset) {
+    reset_locked();
+    ++counters_.resets;
+    return KeyFrameVerdict::kReset;
+  }
+  if (!seen_ids_.insert(r.id).second) {
+    ++counters_.duplicates;
+    return KeyFrameVerdict::kDuplicate;
+  }
+  // Condition 1: not within N frames of a relocalization the edge assisted.
+  if (relocalization_sent_ && r.frame_id >= last_relocalization_frame_id_ &&
+      r.frame_id < last_relocalization_frame_id_ + static_cast<uint64_t>(params_.min_frames_after_relocalization)) {
+    ++counters_.rejected_condition1;
+    return KeyFrameVerdict::kRejectedAfterRelocalization;
+  }
+  // Condition 2: N frames since the last inserted KeyFrame, or Local-Mapping idle.
+  if (any_inserted_ && !mapping_->idle() &&
+      r.frame_id < last_inserted_frame_id_ + static_cast<uint64_t>(params_.max_frames_between_keyframes)) {
+    ++counters_.rejected_condition2;
+    return KeyFrameVerdict::kRejectedMapperBusy;
+  }
+
+  std::shared_ptr<KeyFrame> kf;
+  std::vector<std::shared_ptr<MapPoint>> new_points;
+  try {
+    kf = keyframe_from_record(r, camera_, pyramid_);
+    for (const NewPointRecord& p : r.new_points) new_points.push_back(map_point_from_new_point(p, *kf));
+  } catch (const std::exception& e) {
+    ++counters_.invalid;
+    if (error) *error = e.what();
+    return KeyFrameVerdict::kInvalid;
+  }
+  {
+    std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+    for (const auto& mp : new_points) {
+      if (map_->map_point(mp->id())) continue;  // already known: keep the edge's version
+      map_->add_map_point(mp);
+    }
+    // Observations of points the Global-Map no longer has (culled, or their KeyFrame was
+    // rejected) are dropped here; Local-Mapping links the rest.
+    const std::vector<uint32_t> ids = kf->map_point_ids();
+    for (size_t i = 0; i < ids.size(); ++i)
+      if (ids[i] != kNoId && !map_->map_point(ids[i])) kf->erase_map_point_id(i);
+    if (kf->parent_id() != kNoId && !map_->keyframe(kf->parent_id())) kf->set_parent(kNoId);
+    map_->add_keyframe(kf);
+  }
+  mapping_->insert_keyframe(kf);
+  inserted_.push_back(kf->id());
+  if (inserted_.size() > 1000) inserted_.pop_front();
+  last_inserted_frame_id_ = r.frame_id;
+  any_inserted_ = true;
+  ++counters_.inserted;
+  return KeyFrameVerdict::kInserted;
+}
+
+MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs) const {
+  MapUpdateRecord u;
+  std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> points;
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());  // a consistent snapshot
+  for (const auto& kf : kfs) {
+    u.keyframes.push_back(to_record(*kf, *map_));
+    for (uint32_t id : kf->map_point_ids())
+      if (id != kNoId && !points.count(id))
+        if (auto mp = map_->map_point(id); mp && !mp->is_bad()) points.emplace(id, mp);
+  }
+  u.points.reserve(points.size());
+  for (const auto& [id, mp] : points) u.points.push_back(to_record(*mp));
+  return u;
+}
+
+std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::shared_ptr<KeyFrame>> newest;
+  for (auto it = inserted_.rbegin(); it != inserted_.rend() && newest.size() < static_cast<size_t>(params_.update_size);
+       ++it)
+    if (auto kf = map_->keyframe(*it); kf && !kf->is_bad()) newest.push_back(kf);
+  if (newest.empty()) return std::nullopt;
+  std::reverse(newest.begin(), newest.end());
+  MapUpdateRecord u = pack_update(newest);
+  u.kind = MapUpdateKind::kPeriodic;
+  u.seq = next_update_seq_++;
+  u.build_start = now;
+  u.last_keyframe_seq = counters_.last_seq;
+  ++counters_.updates_built;
+  return u;
+}
+
+std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const FrameRecord& fr, double now,
+                                                                        std::string* error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!vocabulary_ || vocabulary_->empty()) return std::nullopt;
+  Frame frame;
+  try {
+    frame = Frame(fr.id, fr.stamp, features_from_record(fr.features, fr.camera, camera_, pyramid_));
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+    return std::nullopt;
+  }
+  frame.compute_bow(*vocabulary_);
+  const auto candidates = database_->detect_relocalization_candidates(frame, *map_);
+  if (candidates.empty()) return std::nullopt;
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  std::unordered_set<uint32_t> included;
+  auto include = [&](const std::shared_ptr<KeyFrame>& kf) {
+    if (kf && !kf->is_bad() && included.insert(kf->id()).second) kfs.push_back(kf);
+  };
+  for (const auto& c : candidates) {
+    include(c);
+    for (uint32_t id : c->best_covisibles(params_.neighbours_per_candidate)) include(map_->keyframe(id));
+  }
+  MapUpdateRecord u = pack_update(kfs);
+  u.kind = MapUpdateKind::kRelocalization;
+  u.seq = next_update_seq_++;
+  u.request_frame_id = fr.id;
+  u.build_start = now;
+  u.last_keyframe_seq = counters_.last_seq;
+  last_relocalization_frame_id_ = fr.id;
+  relocalization_sent_ = true;
+  ++counters_.relocalization_updates_built;
+  return u;
+}
+
+void EdgeSession::reset_locked() {
+  stop_modules();
+  map_->clear();
+  database_->clear();
+  inserted_.clear();
+  seen_ids_.clear();
+  any_inserted_ = false;
+  relocalization_sent_ = false;
+  start_modules();
+}
+
+bool EdgeSession::wait_until_idle(double timeout_s) const {
+  const bool mapped = mapping_->wait_until_idle(timeout_s);
+  return (loop_ ? loop_->wait_until_idle(timeout_s) : true) && mapped;
+}
+
+EdgeCounters EdgeSession::counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return counters_;
+}
+int EdgeSession::loops_closed() const { return loop_ ? loop_->loops_closed() : 0; }
+bool EdgeSession::mapping_idle() const { return mapping_->idle(); }
+
+}  // namespace edge_slam
