@@ -10,14 +10,13 @@
 #include <edge_slam/io/vocabulary_io.h>
 #include <edge_slam/module/edge_session.h>
 #include <edge_slam/module/tracking_params.h>
+#include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_bridge/pose_conversion.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <atomic>
 #include <memory>
@@ -106,20 +105,7 @@ class EdgeNodelet : public nodelet::Nodelet {
     const auto map = session_->global_map();
     const ros::Time stamp = ros::Time::now();
     if (cloud_pub_.getNumSubscribers() > 0) {
-      const auto points = map->map_points();
-      sensor_msgs::PointCloud2 cloud;
-      cloud.header.frame_id = map_frame_;
-      cloud.header.stamp = stamp;
-      sensor_msgs::PointCloud2Modifier modifier(cloud);
-      modifier.setPointCloud2FieldsByString(1, "xyz");
-      modifier.resize(points.size());
-      sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-      for (const auto& mp : points) {
-        const Eigen::Vector3d p = mp->position();
-        *x = static_cast<float>(p.x()), *y = static_cast<float>(p.y()), *z = static_cast<float>(p.z());
-        ++x, ++y, ++z;
-      }
-      cloud_pub_.publish(cloud);
+      cloud_pub_.publish(edge_slam::to_point_cloud(map->map_points(), map_frame_, stamp));
     }
     nav_msgs::Path path;
     path.header.frame_id = map_frame_;

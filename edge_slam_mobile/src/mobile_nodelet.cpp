@@ -13,6 +13,7 @@
 #include <edge_slam/io/vocabulary_io.h>
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam/module/tracking_params.h>
+#include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_msgs/GetMapUpdateStatus.h>
 #include <edge_slam_msgs/SetMapUpdates.h>
@@ -25,8 +26,6 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -219,25 +218,12 @@ class MobileNodelet : public nodelet::Nodelet {
 
   void publish_local_map() {
     if (!session_ || cloud_pub_.getNumSubscribers() == 0) return;
-    const auto points = session_->local_map()->map_points();
-    sensor_msgs::PointCloud2 cloud;
-    cloud.header.frame_id = map_frame_;
+    ros::Time stamp;
     {
       std::lock_guard<std::mutex> lock(output_mutex_);
-      cloud.header.stamp = last_stamp_;
+      stamp = last_stamp_;
     }
-    sensor_msgs::PointCloud2Modifier modifier(cloud);
-    modifier.setPointCloud2FieldsByString(1, "xyz");
-    modifier.resize(points.size());
-    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-    for (const auto& mp : points) {
-      const Eigen::Vector3d p = mp->position();
-      *x = static_cast<float>(p.x());
-      *y = static_cast<float>(p.y());
-      *z = static_cast<float>(p.z());
-      ++x, ++y, ++z;
-    }
-    cloud_pub_.publish(cloud);
+    cloud_pub_.publish(edge_slam::to_point_cloud(session_->local_map()->map_points(), map_frame_, stamp));
   }
 
   edge_slam::PinholeCamera camera_;
