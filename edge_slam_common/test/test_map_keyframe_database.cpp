@@ -5,21 +5,12 @@
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
 
+#include "support/blank_features.h"
+
 using namespace edge_slam;
 
 namespace {
-std::shared_ptr<const FrameFeatures> features(size_t n) {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 500;
-  c.cx = 320;
-  c.cy = 240;
-  c.bf = 40;
-  std::vector<cv::KeyPoint> keys(n, cv::KeyPoint(100.f, 100.f, 31.f));
-  cv::Mat desc(static_cast<int>(n), 32, CV_8U, cv::Scalar(0));
-  return FrameFeatures::build(c, std::make_shared<ScalePyramid>(ScalePyramid::make(8, 1.2f)), keys, desc, cv::Mat());
-}
+std::shared_ptr<const FrameFeatures> features(size_t n) { return blank_features(n); }
 
 // Words [first, first + count) with equal weights.
 BowVector words(WordId first, WordId count) {

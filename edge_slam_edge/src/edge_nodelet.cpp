@@ -4,14 +4,11 @@
 //        (PointCloud2), ~keyframe_path (KeyFrame poses as nav_msgs/Path)
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame.
 // Malformed messages are rejected with one throttled error and counted; nothing crashes.
-#include <edge_slam/camera/camera_loader.h>
-#include <edge_slam/data/bow_vocabulary.h>
-#include <edge_slam/io/config_file.h>
-#include <edge_slam/io/vocabulary_io.h>
 #include <edge_slam/module/edge_session.h>
 #include <edge_slam/module/tracking_params.h>
 #include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
+#include <edge_slam_bridge/node_config.h>
 #include <edge_slam_bridge/pose_conversion.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
@@ -28,23 +25,14 @@ class EdgeNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getMTNodeHandle();
     ros::NodeHandle& pnh = getMTPrivateNodeHandle();
-    std::string camera_path, slam_path, vocabulary_path;
-    if (!pnh.getParam("camera_config", camera_path) || !pnh.getParam("slam_config", slam_path) ||
-        !pnh.getParam("vocabulary", vocabulary_path)) {
-      NODELET_FATAL("parameters ~camera_config, ~slam_config and ~vocabulary (file paths) are required");
-      return;
-    }
     pnh.param<std::string>("map_frame", map_frame_, "map");
     double update_period = 5.0;
     try {
-      const edge_slam::ConfigMap slam_cfg = edge_slam::ConfigMap::load(slam_path);
-      const edge_slam::PinholeCamera camera = edge_slam::load_camera(edge_slam::ConfigMap::load(camera_path));
-      const edge_slam::OrbParams orb = edge_slam::load_orb_params(slam_cfg);
-      update_period = slam_cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
-      NODELET_INFO("loading vocabulary %s", vocabulary_path.c_str());
-      auto vocabulary = std::make_shared<edge_slam::BowVocabulary>(edge_slam::load_vocabulary(vocabulary_path));
-      session_ = std::make_unique<edge_slam::EdgeSession>(camera, orb.num_levels, orb.scale_factor, vocabulary,
-                                                          edge_slam::load_edge_session_params(slam_cfg));
+      const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
+      const edge_slam::OrbParams orb = edge_slam::load_orb_params(cfg.slam);
+      update_period = cfg.slam.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
+      session_ = std::make_unique<edge_slam::EdgeSession>(cfg.camera, orb.num_levels, orb.scale_factor,
+                                                          cfg.vocabulary, edge_slam::load_edge_session_params(cfg.slam));
     } catch (const std::exception& e) {
       NODELET_FATAL("cannot start the edge: %s", e.what());
       return;

@@ -7,14 +7,11 @@
 // ~camera_frame. Bad input is logged once (throttled) with what was expected, counted, and
 // dropped; the nodelet keeps running.
 #include <cv_bridge/cv_bridge.h>
-#include <edge_slam/camera/camera_loader.h>
-#include <edge_slam/data/bow_vocabulary.h>
-#include <edge_slam/io/config_file.h>
-#include <edge_slam/io/vocabulary_io.h>
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam/module/tracking_params.h>
 #include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
+#include <edge_slam_bridge/node_config.h>
 #include <edge_slam_msgs/GetMapUpdateStatus.h>
 #include <edge_slam_msgs/SetMapUpdates.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -56,24 +53,15 @@ class MobileNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getMTNodeHandle();
     ros::NodeHandle& pnh = getMTPrivateNodeHandle();
-    std::string camera_path, slam_path, vocabulary_path;
-    if (!pnh.getParam("camera_config", camera_path) || !pnh.getParam("slam_config", slam_path) ||
-        !pnh.getParam("vocabulary", vocabulary_path)) {
-      NODELET_FATAL("parameters ~camera_config, ~slam_config and ~vocabulary (file paths) are required");
-      return;
-    }
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("camera_frame", camera_frame_, "camera");
     try {
-      const edge_slam::ConfigMap camera_cfg = edge_slam::ConfigMap::load(camera_path);
-      const edge_slam::ConfigMap slam_cfg = edge_slam::ConfigMap::load(slam_path);
-      camera_ = edge_slam::load_camera(camera_cfg);
-      edge_slam::TrackingParams tracking = edge_slam::load_tracking_params(slam_cfg);
+      const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
+      camera_ = cfg.camera;
+      edge_slam::TrackingParams tracking = edge_slam::load_tracking_params(cfg.slam);
       tracking.conditions = edge_slam::KeyFrameConditionSet::kMobile;  // 1-2 run on the edge (paper 4.4)
-      NODELET_INFO("loading vocabulary %s", vocabulary_path.c_str());
-      auto vocabulary = std::make_shared<edge_slam::BowVocabulary>(edge_slam::load_vocabulary(vocabulary_path));
-      session_ = std::make_unique<MobileSession>(camera_, edge_slam::load_orb_params(slam_cfg), tracking, vocabulary,
-                                                 edge_slam::load_mobile_session_params(slam_cfg),
+      session_ = std::make_unique<MobileSession>(camera_, edge_slam::load_orb_params(cfg.slam), tracking,
+                                                 cfg.vocabulary, edge_slam::load_mobile_session_params(cfg.slam),
                                                  edge_slam::RgbEncoding::kRgb);
     } catch (const std::exception& e) {
       NODELET_FATAL("cannot start the mobile: %s", e.what());
