@@ -21,20 +21,15 @@
 #include <vector>
 
 #include "edge_slam/data/bow_training_features.h"
-#include "edge_slam/data/bow_vocabulary.h"
-#include "edge_slam/io/vocabulary_io.h"
+#include "edge_slam/data/bow_training_options.h"
 
 using namespace edge_slam;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-struct Options {
-  std::string out;
+struct Options : TrainingOptions {
   std::string topic = "/camera/rgb/image_color";  // TUM RGB-D bags
-  VocabularyParams params;
-  long every = 1;
-  long max_images = -1;
   std::vector<std::string> bags;
 };
 
@@ -51,14 +46,6 @@ double seconds_since(Clock::time_point start) {
   std::exit(2);
 }
 
-long parse_integer(const std::string& flag, const char* text, long min) {
-  char* end = nullptr;
-  const long value = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || value < min)
-    usage(flag + " expects an integer >= " + std::to_string(min) + ", got '" + text + "'");
-  return value;
-}
-
 Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -69,14 +56,15 @@ Options parse_options(int argc, char** argv) {
     }
     if (i + 1 >= argc) usage(arg + " needs a value");
     const char* value = argv[++i];
-    if (arg == "--out") o.out = value;
-    else if (arg == "--topic") o.topic = value;
-    else if (arg == "--k") o.params.branching = static_cast<int>(parse_integer(arg, value, 2));
-    else if (arg == "--levels") o.params.levels = static_cast<int>(parse_integer(arg, value, 1));
-    else if (arg == "--every") o.every = parse_integer(arg, value, 1);
-    else if (arg == "--max-images") o.max_images = parse_integer(arg, value, 1);
-    else if (arg == "--seed") o.params.seed = static_cast<uint64_t>(parse_integer(arg, value, 0));
-    else usage("unknown option " + arg);
+    if (arg == "--topic") {
+      o.topic = value;
+      continue;
+    }
+    try {
+      if (!parse_training_flag(arg, value, o)) usage("unknown option " + arg);
+    } catch (const std::invalid_argument& e) {
+      usage(e.what());
+    }
   }
   if (o.out.empty()) usage("--out is required");
   if (o.bags.empty()) usage("no bags given");
@@ -131,7 +119,7 @@ void read_bag(const std::string& path, const Options& o, std::vector<cv::Mat>& d
 int main(int argc, char** argv) {
   const Options options = parse_options(argc, argv);
   try {
-    auto start = Clock::now();
+    const auto start = Clock::now();
     std::vector<cv::Mat> descriptors;
     for (const std::string& bag : options.bags) read_bag(bag, options, descriptors);
     size_t total = 0;
@@ -139,17 +127,7 @@ int main(int argc, char** argv) {
     std::printf("extracted %zu descriptors from %zu images in %.1f s\n", total, descriptors.size(),
                 seconds_since(start));
 
-    start = Clock::now();
-    BowVocabulary vocabulary;
-    vocabulary.train(descriptors, options.params);
-    std::printf("trained k=%d L=%d: %zu words (%zu nodes) in %.1f s\n", vocabulary.branching(), vocabulary.levels(),
-                vocabulary.size(), vocabulary.node_count(), seconds_since(start));
-
-    const std::string& out = options.out;
-    const bool text = out.size() >= 4 && out.compare(out.size() - 4, 4, ".txt") == 0;
-    if (text) save_vocabulary_text(vocabulary, out);
-    else save_vocabulary_binary(vocabulary, out);
-    std::printf("wrote %s\n", out.c_str());
+    train_and_save_vocabulary(descriptors, options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -8,7 +8,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -18,33 +17,19 @@
 
 #include "edge_slam/data/bow_training_features.h"
 #include "edge_slam/data/bow_training_images.h"
-#include "edge_slam/data/bow_vocabulary.h"
-#include "edge_slam/io/vocabulary_io.h"
+#include "edge_slam/data/bow_training_options.h"
 
 using namespace edge_slam;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-struct Options {
-  std::string out;
-  VocabularyParams params;
-  int every = 1;
-  long max_images = -1;
+struct Options : TrainingOptions {
   std::vector<std::string> inputs;
 };
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string lowercase(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::vector<std::string> selected_frames(const Options& options) {
@@ -69,14 +54,6 @@ std::vector<std::string> selected_frames(const Options& options) {
   std::exit(2);
 }
 
-long parse_integer(const std::string& flag, const char* text, long min) {
-  char* end = nullptr;
-  const long value = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || value < min)
-    usage(flag + " expects an integer >= " + std::to_string(min) + ", got '" + text + "'");
-  return value;
-}
-
 Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -84,13 +61,11 @@ Options parse_options(int argc, char** argv) {
     if (arg.rfind("--", 0) == 0) {
       if (i + 1 >= argc) usage(arg + " needs a value");
       const char* value = argv[++i];
-      if (arg == "--out") o.out = value;
-      else if (arg == "--k") o.params.branching = static_cast<int>(parse_integer(arg, value, 2));
-      else if (arg == "--levels") o.params.levels = static_cast<int>(parse_integer(arg, value, 1));
-      else if (arg == "--every") o.every = static_cast<int>(parse_integer(arg, value, 1));
-      else if (arg == "--max-images") o.max_images = parse_integer(arg, value, 1);
-      else if (arg == "--seed") o.params.seed = static_cast<uint64_t>(parse_integer(arg, value, 0));
-      else usage("unknown option " + arg);
+      try {
+        if (!parse_training_flag(arg, value, o)) usage("unknown option " + arg);
+      } catch (const std::invalid_argument& e) {
+        usage(e.what());
+      }
     } else {
       o.inputs.push_back(arg);
     }
@@ -106,7 +81,7 @@ int main(int argc, char** argv) {
   const Options options = parse_options(argc, argv);
   try {
     const std::vector<std::string> frames = selected_frames(options);
-    auto start = Clock::now();
+    const auto start = Clock::now();
     std::vector<cv::Mat> descriptors;
     size_t total = 0;
     for (size_t i = 0; i < frames.size(); ++i) {
@@ -118,15 +93,7 @@ int main(int argc, char** argv) {
     }
     std::printf("extracted %zu descriptors from %zu images in %.1f s\n", total, frames.size(), seconds_since(start));
 
-    start = Clock::now();
-    BowVocabulary vocabulary;
-    vocabulary.train(descriptors, options.params);
-    std::printf("trained k=%d L=%d: %zu words (%zu nodes) in %.1f s\n", vocabulary.branching(), vocabulary.levels(),
-                vocabulary.size(), vocabulary.node_count(), seconds_since(start));
-
-    if (ends_with(lowercase(options.out), ".txt")) save_vocabulary_text(vocabulary, options.out);
-    else save_vocabulary_binary(vocabulary, options.out);
-    std::printf("wrote %s\n", options.out.c_str());
+    train_and_save_vocabulary(descriptors, options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
