@@ -51,8 +51,9 @@ class EdgeNodelet : public nodelet::Nodelet {
     edge_slam::KeyFrameRecord record;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, record);
     if (!status.ok) {
-      ++invalid_;
-      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed KeyFrame: %s", status.error.c_str());
+      const uint64_t rejected = ++invalid_;
+      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed KeyFrame (%lu malformed messages so far): %s",
+                             static_cast<unsigned long>(rejected), status.error.c_str());
       return;
     }
     std::string error;
@@ -69,8 +70,9 @@ class EdgeNodelet : public nodelet::Nodelet {
     edge_slam::FrameRecord record;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, record);
     if (!status.ok) {
-      ++invalid_;
-      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed Frame: %s", status.error.c_str());
+      const uint64_t rejected = ++invalid_;
+      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed Frame (%lu malformed messages so far): %s",
+                             static_cast<unsigned long>(rejected), status.error.c_str());
       return;
     }
     std::string error;

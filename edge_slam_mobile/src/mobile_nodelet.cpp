@@ -97,8 +97,9 @@ class MobileNodelet : public nodelet::Nodelet {
   void on_rgbd(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth) {
     ImageCheck check = convert_rgbd(*rgb, *depth, camera_, last_stamp_);
     if (!check.ok) {
-      ++rejected_frames_;
-      NODELET_ERROR_THROTTLE(5.0, "dropping camera frame: %s", check.error.c_str());
+      const uint64_t dropped = ++rejected_frames_;
+      NODELET_ERROR_THROTTLE(5.0, "dropping camera frame (%lu dropped so far): %s", static_cast<unsigned long>(dropped),
+                             check.error.c_str());
       return;
     }
     {
