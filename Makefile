@@ -5,6 +5,8 @@
 #   make test                        setup, then every unit + integration test; ends "N passed, N failed"
 #   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
 #   make bench DATASET=<TUM folder or bag> OUT=<dir>
+#   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
+#   make test-asan                   ASan+UBSan build: every unit test + one monolithic run
 SHELL := /bin/bash
 DATASET ?= bags/synthetic_room
 MODE ?= monolithic
@@ -26,3 +28,8 @@ eval:
 	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
 bench:
 	@echo "make bench: not yet available (benchmark suite: issue 'Benchmark suite')" >&2; exit 2
+.PHONY: fuzz test-asan
+fuzz:
+	FUZZ_SECONDS="$(or $(FUZZ_SECONDS),60)" bash scripts/fuzz.sh
+test-asan:
+	bash scripts/test_asan.sh

@@ -1,6 +1,8 @@
 // FrameRecord <-> edge_slam_msgs::Frame (relocalization assistance).
 #include <edge_slam_bridge/message_conversion.h>
 
+#include <edge_slam/io/record_checks.h>
+
 #include "feature_packing.h"
 
 namespace edge_slam {
@@ -22,6 +24,8 @@ DecodeStatus from_message(const edge_slam_msgs::Frame& msg, FrameRecord& out, co
   FrameRecord r;
   DecodeStatus s = packing::unpack_camera_and_features(msg, limits, r.camera, r.features);
   if (!s.ok) return DecodeStatus::failure("Frame " + std::to_string(msg.id) + ": " + s.error);
+  if (std::string problem = feature_record_problem(r.features); !problem.empty())
+    return DecodeStatus::failure("Frame " + std::to_string(msg.id) + ": " + problem);
   r.seq = msg.seq;
   r.id = msg.id;
   r.stamp = msg.stamp.toSec();
