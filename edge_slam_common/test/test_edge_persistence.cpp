@@ -27,8 +27,8 @@ struct Mobile {
     std::vector<cv::Mat> descriptors;
     for (const auto& kf : source.map.keyframes()) descriptors.push_back(kf->features().descriptors);
     VocabularyParams vp;
-    vp.branching = 4;
-    vp.levels = 2;
+    vp.branching = 10;  // words specific to few KeyFrames: non-zero idf weights
+    vp.levels = 3;
     vocabulary->train(descriptors, vp);
     std::unordered_set<uint32_t> known;
     for (const auto& kf : source.map.keyframes()) {
@@ -97,7 +97,9 @@ TEST(EdgePersistence, RestartedEdgeContinuesTheSameMap) {
   frame.id = 500;
   frame.camera = mobile.sent[2].camera;
   frame.features = mobile.sent[2].features;
-  EXPECT_TRUE(restarted.build_relocalization_update(frame, 1.0));
+  std::string error;
+  EXPECT_TRUE(edge.build_relocalization_update(frame, 1.0, &error)) << "before the restart: " << error;
+  EXPECT_TRUE(restarted.build_relocalization_update(frame, 1.0, &error)) << error;
   EXPECT_TRUE(restarted.build_local_map_update(2.0));
 }
 
