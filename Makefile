@@ -6,6 +6,8 @@
 #   make test-split                  the split acceptance rostest on the embedded bag (see test/rostest_split)
 #   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
 #   make bench DATASET=<TUM folder or bag> OUT=<dir>
+#   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
+#   make test-asan                   ASan+UBSan build: every unit test + one monolithic run
 SHELL := /bin/bash
 DATASET ?= bags/synthetic_room
 MODE ?= monolithic
@@ -31,3 +33,8 @@ eval:
 	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
 bench:
 	@echo "make bench: not yet available (benchmark suite: issue 'Benchmark suite')" >&2; exit 2
+.PHONY: fuzz test-asan
+fuzz:
+	FUZZ_SECONDS="$(or $(FUZZ_SECONDS),60)" bash scripts/fuzz.sh
+test-asan:
+	bash scripts/test_asan.sh
