@@ -53,7 +53,9 @@ TEST(EventLog, RowsReachTheFileOnlyOnFlushAndCommasInDetailsAreReplaced) {
     const std::string s = read_file(path);
     EXPECT_NE(s.find(",update_applied,7,1234,-1.000,12.500,-1,accepted; rebuilt\n"), std::string::npos) << s;
   }
-  EXPECT_THROW(EventLog("/nonexistent-dir/x.csv"), std::runtime_error);
+  EXPECT_THROW(EventLog("/proc/no-such-folder/x.csv"), std::runtime_error);
+  const std::string nested = ::testing::TempDir() + "/events_test_dir/a/b.csv";
+  EXPECT_TRUE(EventLog(nested).enabled()) << "missing folders are created";
   EventLog disabled;
   EXPECT_FALSE(disabled.enabled());
   disabled.add(EventRow{});  // a no-op, not a crash

@@ -9,6 +9,7 @@
 // Malformed messages are rejected with one throttled error and counted; nothing crashes.
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/metrics_json.h>
+#include <edge_slam/io/output_path.h>
 #include <edge_slam/io/trajectory_io.h>
 #include <edge_slam/module/edge_session.h>
 #include <edge_slam/module/tracking_params.h>
@@ -258,7 +259,7 @@ class EdgeNodelet : public nodelet::Nodelet {
 
   // metrics.json, rewritten every second and at shutdown.
   void write_metrics() {
-    if (!session_ || metrics_file_.empty()) return;
+    if (!session_ || (metrics_file_.empty() && keyframes_file_.empty())) return;
     std::lock_guard<std::mutex> write_lock(write_mutex_);
     const edge_slam::EdgeCounters c = session_->counters();
     const edge_slam::EdgeTimings t = session_->timings();
@@ -306,7 +307,7 @@ class EdgeNodelet : public nodelet::Nodelet {
           .timing("update_build_ms", update_build_ms_);
     }
     try {
-      m.write(metrics_file_);
+      if (!metrics_file_.empty()) m.write(metrics_file_);
       if (!keyframes_file_.empty()) write_keyframes(*map);
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(30.0, "%s", e.what());
@@ -315,6 +316,7 @@ class EdgeNodelet : public nodelet::Nodelet {
 
   // "id stamp tx ty tz qx qy qz qw" (T_wc) of every Global-Map KeyFrame, replaced atomically.
   void write_keyframes(const edge_slam::Map& map) {
+    edge_slam::ensure_parent_directory(keyframes_file_);
     const std::string tmp = keyframes_file_ + ".tmp";
     {
       std::ofstream out(tmp, std::ios::out | std::ios::trunc);

@@ -9,6 +9,7 @@
 // ~trajectory_file (empty = not written), ~path_max_poses. Bad input is logged once
 // (throttled) with what was expected, counted, and dropped; the nodelet keeps running.
 #include <edge_slam/io/event_log.h>
+#include <edge_slam/io/output_path.h>
 #include <edge_slam/io/trajectory_io.h>
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam/module/tracking_params.h>
@@ -85,11 +86,13 @@ class MobileNodelet : public nodelet::Nodelet {
       session_params_ = edge_slam::load_mobile_session_params(config_.slam);
       events_ = std::make_unique<edge_slam::EventLog>(stats_csv);
       if (!trajectory_file.empty()) {
+        edge_slam::ensure_parent_directory(trajectory_file);
         trajectory_.open(trajectory_file, std::ios::out | std::ios::trunc);
         if (!trajectory_) throw std::runtime_error("cannot create the trajectory file '" + trajectory_file + "'");
         trajectory_ << "# timestamp tx ty tz qx qy qz qw (T_wc of each tracked frame, as tracked on the mobile)\n";
       }
       if (!anchors_file.empty()) {
+        edge_slam::ensure_parent_directory(anchors_file);
         anchors_.open(anchors_file, std::ios::out | std::ios::trunc);
         if (!anchors_) throw std::runtime_error("cannot create the anchors file '" + anchors_file + "'");
         anchors_ << "# F <frame stamp> <reference KF id> <T_ref_c: tx ty tz qx qy qz qw>\n"

@@ -1,5 +1,7 @@
 #include "edge_slam/io/event_log.h"
 
+#include "edge_slam/io/output_path.h"
+
 #include <algorithm>
 #include <iomanip>
 #include <stdexcept>
@@ -12,6 +14,7 @@ const char* EventLog::header() {
 
 EventLog::EventLog(const std::string& path) {
   if (path.empty()) return;
+  ensure_parent_directory(path);
   file_.open(path, std::ios::out | std::ios::trunc);
   if (!file_) throw std::runtime_error("cannot create the statistics file '" + path + "'");
   file_ << header() << '\n';

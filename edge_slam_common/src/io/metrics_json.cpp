@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "edge_slam/io/output_path.h"
 #include "edge_slam/util/timing_stats.h"
 
 namespace edge_slam {
@@ -79,6 +80,7 @@ std::string MetricsJson::str(bool pretty) const {
 }
 
 void MetricsJson::write(const std::string& path) const {
+  ensure_parent_directory(path);
   const std::string tmp = path + ".tmp";
   {
     std::ofstream f(tmp, std::ios::out | std::ios::trunc);

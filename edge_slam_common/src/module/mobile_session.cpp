@@ -18,8 +18,8 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
   // At least one update's worth, or an accepted update would be cut down at once.
-  p.reference_min_observations = cfg.get_int_or("edge_slam/mobile_reference_min_observations", 3, 1, 100);
-  p.ref_ratio = cfg.get_double_or("edge_slam/mobile_ref_ratio", 1.0, 0.05, 2.0);
+  p.reference_min_observations = cfg.get_int_or("edge_slam/mobile_reference_min_observations", 2, 1, 100);
+  p.ref_ratio = cfg.get_double_or("edge_slam/mobile_ref_ratio", 0.6, 0.05, 2.0);
   p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   return p;
 }

@@ -25,14 +25,13 @@ struct MobileSessionParams {
   double relocalization_frame_period = 0.5; // seconds between Frames sent while lost
   size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender
   size_t local_map_cap = 50;                // KeyFrames kept in the Local-Map (oldest dropped beyond)
-  // Condition 4 counts the reference KeyFrame's points seen by at least this many KeyFrames
-  // (an RGB-D observation counts twice, as in ORB-SLAM2). With no Local-Mapping on the mobile to
-  // add observations, 2 would count every point the reference just created and ask for a
-  // KeyFrame at every frame; 3 is ORB-SLAM2's value.
-  int reference_min_observations = 3;
-  // ... and a KeyFrame is made when the frame tracks fewer than ref_ratio x those points. They
-  // exclude the points the reference itself created, which the frame does track: hence 1.0, not 0.9.
-  double ref_ratio = 1.0;
+  // Condition 4 on the mobile (config edge_slam/mobile_*): a KeyFrame when the frame tracks fewer
+  // than ref_ratio x the reference KeyFrame's points seen by >= reference_min_observations
+  // KeyFrames (an RGB-D observation counts twice). With no Local-Mapping on the mobile to gate
+  // KeyFrames (condition 2 is the edge's) and a frame re-finding only ~80% of the points its
+  // reference just made, the monolithic 0.9 would ask for a KeyFrame at every frame.
+  int reference_min_observations = 2;
+  double ref_ratio = 0.6;
 };
 
 class ConfigMap;
