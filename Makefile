@@ -4,7 +4,7 @@
 #   make demo  [HEADLESS=1]          setup, then run the main demo on the embedded synthetic sequence
 #   make test                        setup, then every unit + integration test; ends "N passed, N failed"
 #   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
-#   make bench DATASET=<TUM folder or bag> OUT=<dir>
+#   make bench [DATASET=<TUM folder or bag> ...] [OUT=<dir>]   benchmark suite -> OUT/report.md, bench.json
 SHELL := /bin/bash
 DATASET ?= bags/synthetic_room
 MODE ?= monolithic
@@ -24,5 +24,8 @@ test:
 	bash scripts/test.sh
 eval:
 	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
+# bench: DATASET/OUT only when given (the defaults above are for eval); BENCH_ARGS e.g. "--only monolithic,split".
 bench:
-	@echo "make bench: not yet available (benchmark suite: issue 'Benchmark suite')" >&2; exit 2
+	DATASET="$(if $(filter command line environment,$(origin DATASET)),$(DATASET))" \
+	OUT="$(if $(filter command line environment,$(origin OUT)),$(OUT))" BENCH_ARGS="$(BENCH_ARGS)" \
+	bash scripts/bench/bench.sh
