@@ -32,7 +32,9 @@ sys.path.insert(0, HERE)
 from fast_turn import fast_turn  # noqa: E402
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
-VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank"]
+VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth"]
+# Paper Table 5: upload / download Mbit/s, plus 5 ms one-way delay.
+BANDWIDTH_LEVELS = {"high": (51, 67), "medium": (20, 20), "low": (15, 10)}
 SAMPLER_ROLES = {"monolithic": ["mobile=edge_slam_run"],
                  "split": ["mobile=__name:=mobile_manager", "edge=__name:=edge_manager"]}
 MOBILE_NS = "/edge_slam/mobile"
@@ -55,12 +57,13 @@ class Progress:
             sys.stderr.write("\r\033[K" + line)
         else:
             now = time.monotonic()  # logs: one line every 15 s is enough
-            if detail == "" or now - getattr(self, "last", 0) > 15:
+            if detail == "" or now - getattr(self, "last", 0) >= 15:
                 sys.stderr.write(line + "\n")
                 self.last = now
         sys.stderr.flush()
 
     def done(self, result):
+        self.last = 0  # the outcome line is always printed
         self.show(f"{result} ({time.monotonic() - self.t0:.0f} s)")
         if self.tty:
             sys.stderr.write("\n")
@@ -166,6 +169,30 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
     return info
 
 
+def run_bandwidth_levels(progress, out_dir, dataset, bag):
+    """Split over a shaped veth link in two network namespaces, one run per level (root only)."""
+    results = []
+    for level, (up, down) in BANDWIDTH_LEVELS.items():
+        run_dir = os.path.join(out_dir, "runs", os.path.basename(dataset), f"bandwidth_{level}")
+        os.makedirs(run_dir, exist_ok=True)
+        progress.start(f"{os.path.basename(dataset)} bandwidth {level} (up {up} / down {down} Mbit/s):")
+        t0 = time.time()
+        with open(os.path.join(run_dir, "runner.txt"), "w") as log:
+            proc = subprocess.Popen([sys.executable, os.path.join(HERE, "netns_run.py"), "--bag", bag,
+                                     "--up", str(up), "--down", str(down), "--out", run_dir],
+                                    cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+            expected = sequence_seconds(dataset) + 25
+            while proc.poll() is None:
+                progress.show(f"{time.time() - t0:4.0f} s / ~{expected:.0f} s")
+                if time.time() - t0 > 3 * expected + 120:
+                    proc.terminate()  # netns_run cleans up its namespaces on SIGTERM
+                time.sleep(1.0)
+        results.append({"level": level, "up_mbps": up, "down_mbps": down, "exit_code": proc.returncode,
+                        "wall_s": round(time.time() - t0, 1)})
+        progress.done("ok" if proc.returncode == 0 else f"FAILED (exit {proc.returncode}, see runner.txt)")
+    return results
+
+
 def run_wire_benchmark(progress, out_dir, dataset):
     progress.start(f"wire micro-benchmark ({os.path.basename(dataset)}, 300 frames):")
     path = os.path.join(out_dir, "wire.json")
@@ -217,7 +244,10 @@ def main():
     os.environ.setdefault("ROS_HOME", os.path.join(out_dir, "ros_home"))
 
     manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}
-    progress = Progress(len(datasets) * (len(variants) + (1 if any("blank" in v for v in variants) else 0))
+    with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
+    progress = Progress(len(datasets) * (len([v for v in variants if v != "bandwidth"])
+                                         + (1 if any("blank" in v for v in variants) else 0))
+                        + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
                         + (0 if args.no_wire else 1) + 1)
     t_start = time.time()
     for dataset in datasets:
@@ -236,6 +266,13 @@ def main():
             entry["blank"] = made.stdout.strip() or made.stderr.strip()
             progress.done(entry["blank"])
         for variant in variants:
+            if variant == "bandwidth":
+                bag = dataset.rstrip("/") + ".bag"
+                if os.geteuid() != 0 or not os.path.isfile(bag):
+                    entry["bandwidth_skipped"] = "needs root" if os.geteuid() != 0 else f"no bag {bag}"
+                else:
+                    entry["bandwidth"] = run_bandwidth_levels(progress, out_dir, dataset, bag)
+                continue
             expected = seconds + (45 if variant.startswith("split") else 25)
             entry["runs"].append(run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected))
         manifest["datasets"].append(entry)

@@ -57,13 +57,15 @@ def sample(pid):
     try:
         with open(f"/proc/{pid}/stat") as f:
             fields = f.read().rsplit(")", 1)[1].split()
-        rss_kb = 0
+        rss_kb = None
         with open(f"/proc/{pid}/status") as f:
             for line in f:
                 if line.startswith("VmRSS:"):
                     rss_kb = int(line.split()[1])
                     break
     except (OSError, IndexError, ValueError):
+        return None
+    if rss_kb is None:  # a zombie (exited, not yet reaped) has no VmRSS: it is gone
         return None
     # After ')': field 3 (state) is index 0, so utime (14) and stime (15) are indices 11 and 12.
     return (int(fields[11]) + int(fields[12])) / CLK_TCK, rss_kb
