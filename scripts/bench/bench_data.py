@@ -71,20 +71,13 @@ def net_rows(run_dir):
 
 
 def frame_times(run_dir):
-    """Per-frame tracking latency: (stamps, ms) from frame_times.csv (monolithic runner) or,
-    in split mode, from the mobile's stats CSV when it has per-frame tracking rows."""
+    """Per-frame tracking latency (stamps, ms): frame_times.csv of the monolithic runner, or the
+    mobile's "frame" events in a split run's mobile_stats.csv."""
     rows = read_csv(os.path.join(run_dir, "frame_times.csv"))
     if rows:
         return column(rows, "stamp"), column(rows, "tracking_ms")
-    rows = read_csv(os.path.join(run_dir, "mobile_stats.csv"))
-    if rows:
-        kind_col = next((c for c in ("event", "kind", "type", "name") if c in rows[0]), None)
-        value_col = next((c for c in ("ms", "value", "latency_ms", "value_ms") if c in rows[0]), None)
-        time_col = next((c for c in ("stamp", "t", "time", "wall") if c in rows[0]), None)
-        if kind_col and value_col and time_col:
-            mine = [r for r in rows if "track" in r[kind_col]]
-            return column(mine, time_col), column(mine, value_col)
-    return None, None
+    import pipeline_stats  # here: pipeline_stats imports this module
+    return pipeline_stats.tracking_series(run_dir)
 
 
 def stats(values):

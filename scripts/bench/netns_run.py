@@ -132,10 +132,12 @@ def main():
                               env=ros_env(EDGE_IP), capture_output=True).returncode == 0:
                 break
             time.sleep(0.3)
-        procs.append(spawn(nets.edge, EDGE_IP, ["roslaunch", "--wait", os.path.join(launch, "edge.launch"),
-                                                f"camera_config:={args.camera}"], log))
-        procs.append(spawn(nets.mobile, MOBILE_IP, ["roslaunch", "--wait", os.path.join(launch, "mobile.launch"),
-                                                    f"camera_config:={args.camera}"], log))
+        for side, ns, ip in (("edge", nets.edge, EDGE_IP), ("mobile", nets.mobile, MOBILE_IP)):
+            path = os.path.join(launch, f"{side}.launch")
+            cmd = ["roslaunch", "--wait", path, f"camera_config:={args.camera}"]
+            if 'name="stats_csv"' in open(path).read():  # the nodelets' own event log, when they have one
+                cmd.append(f"stats_csv:={os.path.abspath(os.path.join(args.out, side + '_stats.csv'))}")
+            procs.append(spawn(ns, ip, cmd, log))
         procs.append(spawn(nets.mobile, MOBILE_IP, [sys.executable, os.path.join(HERE, "odometry_recorder.py"),
                                                     "--out", os.path.join(args.out, "trajectory.txt")], log))
         time.sleep(8)  # both nodelets load the vocabulary before the first frame
