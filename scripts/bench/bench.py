@@ -32,7 +32,8 @@ sys.path.insert(0, HERE)
 from fast_turn import fast_turn  # noqa: E402
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
-VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth"]
+VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth", "long"]
+LONG_DATASET = "bags/synthetic_room_long"  # edge_slam_synth --long (see bags/README.md); run only if present
 # Paper Table 5: upload / download Mbit/s, plus 5 ms one-way delay.
 BANDWIDTH_LEVELS = {"high": (51, 67), "medium": (20, 20), "low": (15, 10)}
 SAMPLER_ROLES = {"monolithic": ["mobile=edge_slam_run"],
@@ -111,7 +112,7 @@ def wait_for_service(name, proc, timeout):
 
 
 def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s):
-    mode = "split" if variant.startswith("split") else "monolithic"
+    mode = "split" if "split" in variant else "monolithic"
     run_dir = os.path.join(out_dir, "runs", os.path.basename(dataset), variant)
     os.makedirs(run_dir, exist_ok=True)
     data = blank_dir if variant.endswith("_blank") else dataset
@@ -163,7 +164,7 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
     info = {"dataset": dataset, "data": data, "variant": variant, "mode": mode, "exit_code": rc,
             "wall_s": round(time.time() - t0, 1), "expected_s": expected_s}
     if variant == "split_controller":
-        info["controller_window"] = turn
+        info["controller_window"] = turn[:2]
     json.dump(info, open(os.path.join(run_dir, "run.json"), "w"), indent=2)
     progress.done("ok" if rc == 0 else f"FAILED (exit {rc}, see {os.path.relpath(run_dir, ROOT)}/log.txt)")
     return info
@@ -245,9 +246,10 @@ def main():
 
     manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}
     with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
-    progress = Progress(len(datasets) * (len([v for v in variants if v != "bandwidth"])
+    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long")])
                                          + (1 if any("blank" in v for v in variants) else 0))
                         + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
+                        + (2 if "long" in variants and os.path.isdir(os.path.join(ROOT, LONG_DATASET)) else 0)
                         + (0 if args.no_wire else 1) + 1)
     t_start = time.time()
     for dataset in datasets:
@@ -266,6 +268,8 @@ def main():
             entry["blank"] = made.stdout.strip() or made.stderr.strip()
             progress.done(entry["blank"])
         for variant in variants:
+            if variant == "long":
+                continue  # once, after the datasets
             if variant == "bandwidth":
                 bag = dataset.rstrip("/") + ".bag"
                 if os.geteuid() != 0 or not os.path.isfile(bag):
@@ -277,6 +281,16 @@ def main():
             entry["runs"].append(run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected))
         manifest["datasets"].append(entry)
         json.dump(manifest, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
+    long_dir = os.path.join(ROOT, LONG_DATASET)
+    if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
+        seconds = sequence_seconds(long_dir)
+        entry = {"path": long_dir, "name": os.path.basename(long_dir), "seconds": seconds, "runs": []}
+        for variant in ("monolithic", "split"):
+            entry["runs"].append(run_variant(progress, out_dir, long_dir, f"long_{variant}", None, None,
+                                             seconds + 40))
+        manifest["long_run"] = entry
+    elif "long" in variants:
+        manifest["long_run_skipped"] = f"{LONG_DATASET} not found (edge_slam_synth --long)"
     if not args.no_wire:
         synthetic = os.path.join(ROOT, "bags/synthetic_room")
         run_wire_benchmark(progress, out_dir, synthetic if os.path.isdir(synthetic) else datasets[0])
