@@ -71,6 +71,15 @@ def sample(pid):
     return (int(fields[11]) + int(fields[12])) / CLK_TCK, rss_kb
 
 
+def alive(pid):
+    """Running (a zombie, exited but not yet reaped by its parent, counts as gone)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (OSError, IndexError):
+        return False
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--root-pid", type=int, required=True)
@@ -86,7 +95,7 @@ def main():
     with open(args.out, "w") as out:
         out.write("t,role,pid,cpu_s,rss_kb\n")
         tick = time.monotonic()
-        while os.path.exists(f"/proc/{args.root_pid}"):
+        while alive(args.root_pid):
             now = time.monotonic()
             if now >= next_scan and len(found) < len(roles):  # look for roles not seen yet, twice a second
                 next_scan = now + 0.5
