@@ -1,6 +1,8 @@
 // KeyFrameRecord <-> edge_slam_msgs::KeyFrame.
 #include <edge_slam_bridge/message_conversion.h>
 
+#include <cmath>
+
 #include "feature_packing.h"
 #include <edge_slam_bridge/pose_conversion.h>
 
@@ -13,6 +15,7 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   msg.id = r.id;
   msg.frame_id = r.frame_id;
   msg.stamp = ros::Time(r.stamp);
+  msg.created_wall = r.created_wall;
   msg.reset = r.reset;
   msg.pose = pose_to_message(r.T_wc);
   packing::pack_camera_and_features(r.camera, r.features, msg);
@@ -83,10 +86,12 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   for (size_t i = 0; i < msg.covis_ids.size(); ++i)
     r.covisibility.emplace_back(msg.covis_ids[i], msg.covis_weights[i]);
 
+  if (!std::isfinite(msg.created_wall)) return DecodeStatus::failure("created_wall is not finite");
   r.seq = msg.seq;
   r.id = msg.id;
   r.frame_id = msg.frame_id;
   r.stamp = msg.stamp.toSec();
+  r.created_wall = msg.created_wall;
   r.reset = msg.reset;
   r.parent_id = msg.parent_id;
   out = std::move(r);

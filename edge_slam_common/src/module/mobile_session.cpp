@@ -1,11 +1,14 @@
 #include "edge_slam/module/mobile_session.h"
 
+#include <algorithm>
 #include <chrono>
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
+#include "edge_slam/module/local_map_cap.h"
+#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
@@ -14,6 +17,8 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.policy.initial_time_constraint = cfg.get_double_or("edge_slam/initial_time_constraint", 0.3, 0.0, 60.0);
   p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
+  // At least one update's worth, or an accepted update would be cut down at once.
+  p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   return p;
 }
 
@@ -44,10 +49,18 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   KeyFrameRecord record = to_record(*kf, *map_, created);
   record.seq = next_keyframe_seq_++;
+  record.created_wall = wall_clock_seconds();
   newest_keyframe_ = record;
   outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
   last_keyframe_stamp_ = kf->stamp();
   keyframe_since_update_ = true;
+  dropped_by_cap_ += enforce_local_map_cap(*map_, database_.get(), params_.local_map_cap,
+                                           {kf->id(), tracking_.reference_keyframe_id()}).size();
+  note_local_map_size();
+}
+
+void MobileSession::note_local_map_size() {
+  local_map_peak_ = std::max(local_map_peak_, map_->num_keyframes());
 }
 
 TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, double stamp) {
@@ -83,6 +96,7 @@ UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double 
     if (kf->has_bow()) database_->add(kf);
   tracking_.relink_after_map_update();
   keyframe_since_update_ = false;
+  note_local_map_size();
   out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -99,7 +113,9 @@ std::optional<FrameRecord> MobileSession::take_relocalization_frame(double now) 
   const Frame& f = tracking_.last_frame();
   if (!f.features || f.size() == 0) return std::nullopt;
   last_relocalization_frame_time_ = now;
-  return to_record(f, next_frame_seq_++);
+  FrameRecord r = to_record(f, next_frame_seq_++);
+  r.created_wall = wall_clock_seconds();
+  return r;
 }
 
 bool MobileSession::reset() {
@@ -139,6 +155,14 @@ TrackingState MobileSession::state() const {
 TrackingCounters MobileSession::tracking_counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return tracking_.counters();
+}
+size_t MobileSession::local_map_peak() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return local_map_peak_;
+}
+uint64_t MobileSession::keyframes_dropped_by_cap() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return dropped_by_cap_;
 }
 uint64_t MobileSession::keyframes_sent() const {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -28,12 +28,19 @@ struct EdgeSessionParams {
   int min_frames_after_relocalization = 20; // condition 1
   int max_frames_between_keyframes = 20;    // condition 2 (or Local-Mapping idle)
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
+  size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
   bool loop_closing = true;
   LocalMappingParams mapping;
   LoopClosingParams loop;
 };
 // "edge_slam:" and "tracking:" sections of config/slam.yaml.
 EdgeSessionParams load_edge_session_params(const ConfigMap& cfg);
+
+// Where every KeyFrame accepted since the last reset went: still in the Global-Map, or culled
+// as redundant by Local-Mapping. Nothing else may happen to one (a lost KeyFrame is a bug).
+struct KeyFrameAccount {
+  std::vector<uint32_t> inserted, culled, in_map;  // sorted ids
+};
 
 enum class KeyFrameVerdict { kInserted, kDuplicate, kRejectedAfterRelocalization, kRejectedMapperBusy, kInvalid, kReset };
 const char* to_string(KeyFrameVerdict v);
@@ -61,6 +68,8 @@ class EdgeSession {
   EdgeCounters counters() const;
   std::shared_ptr<const Map> global_map() const { return map_; }
   int loops_closed() const;
+  std::vector<LoopEvent> loops() const;
+  KeyFrameAccount keyframe_account() const;
   bool mapping_idle() const;
 
  private:
@@ -81,6 +90,9 @@ class EdgeSession {
   mutable std::mutex mutex_;  // receive / build / reset
   std::deque<uint32_t> inserted_;        // KeyFrame ids in insertion order
   std::unordered_set<uint32_t> seen_ids_;
+  std::vector<uint32_t> accepted_ids_;     // since the last reset
+  mutable std::mutex culled_mutex_;        // culled_ids_ is written by the Local-Mapping thread
+  std::vector<uint32_t> culled_ids_;
   uint64_t last_inserted_frame_id_ = 0;
   bool any_inserted_ = false;
   uint64_t last_relocalization_frame_id_ = 0;

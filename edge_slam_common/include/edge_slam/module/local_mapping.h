@@ -78,6 +78,8 @@ class LocalMapping {
   // Keyframe condition 2 (Tracking::set_mapper_idle) and the loop closer's input.
   std::function<void(bool idle)> on_idle_changed;
   std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_processed;
+  // Ids of the keyframes culled as redundant (the edge accounts for every KeyFrame it accepted).
+  std::function<void(const std::vector<uint32_t>&)> on_keyframes_culled;
 
   LocalMappingStats stats() const;
   std::vector<double> process_times_ms() const;  // whole keyframe processing

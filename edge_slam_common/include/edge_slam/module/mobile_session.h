@@ -24,6 +24,7 @@ struct MobileSessionParams {
   MapUpdatePolicyParams policy;             // ITC 300 ms, LMU 6
   double relocalization_frame_period = 0.5; // seconds between Frames sent while lost
   size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender
+  size_t local_map_cap = 50;                // KeyFrames kept in the Local-Map (oldest dropped beyond)
 };
 
 class ConfigMap;
@@ -60,6 +61,9 @@ class MobileSession {
   MapUpdateCounters update_counters() const;
   double time_constraint() const;
   size_t local_map_keyframes() const { return map_->num_keyframes(); }
+  size_t local_map_peak() const;           // most KeyFrames the Local-Map ever held
+  size_t local_map_cap() const { return params_.local_map_cap; }
+  uint64_t keyframes_dropped_by_cap() const;
   size_t local_map_points() const { return map_->num_map_points(); }
   TrackingState state() const;
   TrackingCounters tracking_counters() const;
@@ -68,6 +72,7 @@ class MobileSession {
 
  private:
   void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  void note_local_map_size();
 
   PinholeCamera camera_;
   std::shared_ptr<const BowVocabulary> vocabulary_;
@@ -87,6 +92,8 @@ class MobileSession {
   uint64_t next_frame_seq_ = 1;
   double last_relocalization_frame_time_ = -1e300;
   std::optional<KeyFrameRecord> newest_keyframe_;
+  size_t local_map_peak_ = 0;
+  uint64_t dropped_by_cap_ = 0;
 };
 
 }  // namespace edge_slam

@@ -80,6 +80,7 @@ class Tracking {
   const std::vector<double>& frame_times_ms() const { return times_ms_; }      // wall
   const std::vector<double>& frame_cpu_times_ms() const { return cpu_times_ms_; }
   const Frame& last_frame() const { return last_frame_; }
+  uint32_t reference_keyframe_id() const { return reference_kf_ ? reference_kf_->id() : kNoId; }
   const OrbExtractor& extractor() const { return extractor_; }
   // Forget everything (map and database included): back to NOT_INITIALIZED.
   void reset();
