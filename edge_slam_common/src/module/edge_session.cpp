@@ -217,7 +217,26 @@ EdgeCounters EdgeSession::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return counters_;
 }
-std::vector<LoopEvent> EdgeSession::loops() const { return loop_ ? loop_->loops() : std::vector<LoopEvent>{}; }
+// The modules are replaced on a reset (under mutex_), so every reader of them takes mutex_.
+std::vector<LoopEvent> EdgeSession::loops() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return loop_ ? loop_->loops() : std::vector<LoopEvent>{};
+}
+
+EdgeTimings EdgeSession::timings() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  EdgeTimings t;
+  t.mapping = mapping_->stats();
+  t.local_mapping_ms = mapping_->process_times_ms();
+  t.local_ba_ms = mapping_->local_ba_times_ms();
+  if (loop_) {
+    t.loop_detection_ms = loop_->detection_times_ms();
+    t.loop_correction_ms = loop_->correction_times_ms();
+    t.full_ba_ms = loop_->full_ba_times_ms();
+    t.full_ba_runs = loop_->full_ba_runs();
+  }
+  return t;
+}
 
 KeyFrameAccount EdgeSession::keyframe_account() const {
   KeyFrameAccount a;
@@ -237,7 +256,13 @@ KeyFrameAccount EdgeSession::keyframe_account() const {
   return a;
 }
 
-int EdgeSession::loops_closed() const { return loop_ ? loop_->loops_closed() : 0; }
-bool EdgeSession::mapping_idle() const { return mapping_->idle(); }
+int EdgeSession::loops_closed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return loop_ ? loop_->loops_closed() : 0;
+}
+bool EdgeSession::mapping_idle() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return mapping_->idle();
+}
 
 }  // namespace edge_slam

@@ -18,9 +18,20 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
   // At least one update's worth, or an accepted update would be cut down at once.
+  p.reference_min_observations = cfg.get_int_or("edge_slam/mobile_reference_min_observations", 3, 1, 100);
+  p.ref_ratio = cfg.get_double_or("edge_slam/mobile_ref_ratio", 1.0, 0.05, 2.0);
   p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   return p;
 }
+
+namespace {
+TrackingParams mobile_tracking_params(TrackingParams t, const MobileSessionParams& p) {
+  t.conditions = KeyFrameConditionSet::kMobile;
+  t.reference_min_observations = p.reference_min_observations;
+  t.keyframe.ref_ratio = p.ref_ratio;
+  return t;
+}
+}  // namespace
 
 MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
                              std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
@@ -32,7 +43,7 @@ MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, 
       map_(std::make_shared<Map>()),
       database_(std::make_shared<KeyFrameDatabase>()),
       outbox_(params.outbox_capacity),
-      tracking_(camera, orb, tracking, map_, database_, vocabulary, encoding),
+      tracking_(camera, orb, mobile_tracking_params(tracking, params), map_, database_, vocabulary, encoding),
       policy_(params.policy) {
   map_->set_map_point_id_space(kMobilePointIdFirst, kEdgePointIdFirst);
   // Runs inside track(), with mutex_ held.
@@ -51,6 +62,7 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   record.seq = next_keyframe_seq_++;
   record.created_wall = wall_clock_seconds();
   newest_keyframe_ = record;
+  newest_created_ = kf;
   outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
   last_keyframe_stamp_ = kf->stamp();
   keyframe_since_update_ = true;
@@ -66,7 +78,22 @@ void MobileSession::note_local_map_size() {
 TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, double stamp) {
   std::lock_guard<std::mutex> lock(mutex_);
   last_stamp_ = stamp;
-  return tracking_.track_rgbd(color, depth, stamp);
+  newest_created_.reset();
+  TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
+  if (!r.pose_valid) return r;
+  if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id())) {
+    r.reference_kf_id = ref->id();
+    r.T_ref_c = ref->T_cw() * r.T_cw.inverse();
+  }
+  if (newest_created_) {
+    r.keyframe_id = newest_created_->id();
+    r.keyframe_parent_id = newest_created_->parent_id();
+    if (const auto parent = map_->keyframe(r.keyframe_parent_id))
+      r.T_parent_kf = parent->T_cw() * newest_created_->T_wc();
+    else
+      r.keyframe_parent_id = kNoId;
+  }
+  return r;
 }
 
 UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double now) {

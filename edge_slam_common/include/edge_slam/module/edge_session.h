@@ -42,6 +42,13 @@ struct KeyFrameAccount {
   std::vector<uint32_t> inserted, culled, in_map;  // sorted ids
 };
 
+// Per-call module timings (ms) since the last reset, for metrics.json and the stats topic.
+struct EdgeTimings {
+  LocalMappingStats mapping;
+  std::vector<double> local_mapping_ms, local_ba_ms, loop_detection_ms, loop_correction_ms, full_ba_ms;
+  int full_ba_runs = 0;
+};
+
 enum class KeyFrameVerdict { kInserted, kDuplicate, kRejectedAfterRelocalization, kRejectedMapperBusy, kInvalid, kReset };
 const char* to_string(KeyFrameVerdict v);
 
@@ -71,6 +78,7 @@ class EdgeSession {
   std::vector<LoopEvent> loops() const;
   KeyFrameAccount keyframe_account() const;
   bool mapping_idle() const;
+  EdgeTimings timings() const;
 
  private:
   void start_modules();

@@ -43,6 +43,13 @@ struct TrackingResult {
   double time_ms = 0;             // wall time: frame construction (ORB) + tracking
   double cpu_ms = 0;              // CPU time of this thread for the same work
   std::string message;            // why tracking failed / the input was rejected
+  // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
+  // optimised KeyFrames, as ORB-SLAM2 saves its trajectory): the reference KeyFrame and the
+  // frame's pose relative to it; for a new KeyFrame, its spanning-tree parent and pose relative to it.
+  uint32_t reference_kf_id = kNoId;
+  Eigen::Isometry3d T_ref_c = Eigen::Isometry3d::Identity();
+  uint32_t keyframe_id = kNoId, keyframe_parent_id = kNoId;
+  Eigen::Isometry3d T_parent_kf = Eigen::Isometry3d::Identity();
 };
 
 struct TrackingCounters {
