@@ -132,11 +132,18 @@ def main():
                               env=ros_env(EDGE_IP), capture_output=True).returncode == 0:
                 break
             time.sleep(0.3)
+        out = os.path.abspath(args.out)
+        outputs = {"edge": {"stats_csv": "edge_stats.csv", "metrics_file": "edge_metrics.json",
+                            "keyframes_file": "edge_keyframes.txt"},
+                   "mobile": {"stats_csv": "mobile_stats.csv", "metrics_file": "mobile_metrics.json",
+                              "trajectory_file": "trajectory_online.txt", "anchors_file": "mobile_anchors.txt"}}
         for side, ns, ip in (("edge", nets.edge, EDGE_IP), ("mobile", nets.mobile, MOBILE_IP)):
             path = os.path.join(launch, f"{side}.launch")
+            text = open(path).read()
             cmd = ["roslaunch", "--wait", path, f"camera_config:={args.camera}"]
-            if 'name="stats_csv"' in open(path).read():  # the nodelets' own event log, when they have one
-                cmd.append(f"stats_csv:={os.path.abspath(os.path.join(args.out, side + '_stats.csv'))}")
+            # The nodelets' own measurement files, for the launch arguments this version has.
+            cmd += [f"{arg}:={os.path.join(out, name)}" for arg, name in outputs[side].items()
+                    if f'name="{arg}"' in text]
             procs.append(spawn(ns, ip, cmd, log))
         procs.append(spawn(nets.mobile, MOBILE_IP, [sys.executable, os.path.join(HERE, "odometry_recorder.py"),
                                                     "--out", os.path.join(args.out, "trajectory.txt")], log))
@@ -152,6 +159,18 @@ def main():
     finally:
         cleanup()
         json.dump(counters, open(os.path.join(args.out, "counters.json"), "w"), indent=2)
+    # Final trajectory as in `make eval MODE=split` (frames re-anchored on the edge's final
+    # KeyFrames) when both sides wrote their files; the recorded odometry otherwise.
+    anchors, kfs = (os.path.join(args.out, f) for f in ("mobile_anchors.txt", "edge_keyframes.txt"))
+    tool = os.path.join(ROOT, "scripts", "split_trajectory.py")
+    if os.path.isfile(tool) and os.path.isfile(anchors) and os.path.isfile(kfs):
+        os.replace(os.path.join(args.out, "trajectory.txt"), os.path.join(args.out, "trajectory_odometry.txt"))
+        made = subprocess.run([sys.executable, tool, anchors, kfs, os.path.join(args.out, "trajectory.txt")],
+                              stdout=log, stderr=subprocess.STDOUT).returncode == 0
+        counters["trajectory"] = "final (split_trajectory.py)" if made else "none (split_trajectory.py failed)"
+    else:
+        counters["trajectory"] = "tracking odometry"
+    json.dump(counters, open(os.path.join(args.out, "counters.json"), "w"), indent=2)
     print(json.dumps(counters))
 
 

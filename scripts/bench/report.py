@@ -496,6 +496,8 @@ def main():
                                        "keyframes_received": received, "keyframes_inserted": inserted,
                                        "keyframes_dropped_in_transit": dropped, "keyframes_not_inserted": not_inserted,
                                        "updates_received": num(mob, "received"), "updates_accepted": num(mob, "accepted")})
+                traj_kinds = sorted({(read_json(os.path.join(run(f"bandwidth_{l['level']}"), "counters.json")) or {})
+                                     .get("trajectory", "?") for l in ds["bandwidth"]})
                 rows.append([level["level"], f"{level['up_mbps']} / {level['down_mbps']}",
                              "yes" if c.get("delay_applied") else "no (no netem)", fmt(a and a["rmse_m"] * 100),
                              a["poses"] if a else "n/a", created if created is not None else "n/a",
@@ -505,7 +507,8 @@ def main():
             body.line("Mobile and edge in two network namespaces joined by a veth pair; each end's egress shaped "
                       "with tc tbf (upload on the mobile side, download on the edge side) and, where the kernel "
                       "has sch_netem, 5 ms netem delay. ROS master and edge in the edge namespace; bag playback, "
-                      "mobile and a pose recorder in the mobile namespace.")
+                      "mobile and a pose recorder in the mobile namespace. ATE of the "
+                      f"{' / '.join(traj_kinds)} trajectory.")
             body.line()
             body.table(["level", "up / down [Mbit/s]", "5 ms delay", "ATE RMSE [cm]", "poses", "KFs created (mobile)",
                         "KFs received (edge)", "KFs inserted (edge)", "dropped in transit", "sent, never inserted",
