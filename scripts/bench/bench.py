@@ -241,7 +241,10 @@ def main():
     if unknown:
         sys.exit(f"bench: unknown variant(s) {sorted(unknown)}; known: {VARIANTS}")
     # A private ROS master port: other people's roscore on this machine must not see our runs.
-    os.environ["ROS_MASTER_URI"] = f"http://127.0.0.1:{free_port()}"
+    # eval_split.sh starts its master on EVAL_ROS_PORT; the recorder and controller follow it.
+    port = free_port()
+    os.environ["EVAL_ROS_PORT"] = str(port)
+    os.environ["ROS_MASTER_URI"] = f"http://localhost:{port}"
     os.environ.setdefault("ROS_HOME", os.path.join(out_dir, "ros_home"))
 
     manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}

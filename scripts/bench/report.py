@@ -346,7 +346,7 @@ def main():
             for label, key in modules:
                 s = m.get(key)
                 d.setdefault("latency_ms", {}).setdefault(mode, {})[key] = s
-                if s:
+                if s and s.get("count"):
                     rows.append([mode, label, s.get("count", "n/a"), fmt(s.get("mean")), fmt(s.get("median")),
                                  fmt(s.get("p95")), fmt(s.get("max"))])
         if rows:
@@ -472,7 +472,7 @@ def main():
                              f"{r['frames_tracked']}/{r['frames']}", fmt(a["rmse_m"] * 100 if a else None)])
             else:
                 rows.append([mode] + ["not measured"] * 5)
-        body.line(f"Copy with {blank or 'no blank frames'} (black colour images, depth kept).")
+        body.line(f"Copy with {blank} (black colour images, depth kept)." if blank else "Not run.")
         body.line()
         body.table(["mode", "times lost", "relocalizations", "first pose after the blank run", "frames tracked",
                     "ATE RMSE [cm]"], rows)
