@@ -208,6 +208,37 @@ def run_wire_benchmark(progress, out_dir, dataset):
     progress.done("ok" if proc.returncode == 0 else f"FAILED (exit {proc.returncode}, see wire_log.txt)")
 
 
+def read_manifest(out_dir):
+    try:
+        return json.load(open(os.path.join(out_dir, "manifest.json")))
+    except (OSError, ValueError):
+        return None
+
+
+def save_manifest(out_dir, manifest, previous):
+    """Writes the manifest; with --add, merged into the previous one: a dataset run again gets
+    its variants replaced one by one, everything else of the earlier bench stays."""
+    merged = manifest
+    if previous:
+        merged = dict(previous)
+        merged.setdefault("added", []).append({k: manifest[k] for k in ("machine", "bench_wall_s") if k in manifest})
+        by_name = {d["name"]: d for d in previous.get("datasets", [])}
+        for entry in manifest["datasets"]:
+            old = by_name.get(entry["name"])
+            if old is None:
+                merged["datasets"].append(entry)
+                continue
+            runs = {r["variant"]: r for r in old.get("runs", [])}
+            runs.update({r["variant"]: r for r in entry["runs"]})
+            old.update({k: v for k, v in entry.items() if k != "runs"})
+            old["runs"] = list(runs.values())
+        for key in ("long_run", "long_run_skipped"):
+            if key in manifest:
+                merged[key] = manifest[key]
+    json.dump(merged, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
+    return merged
+
+
 def machine_info():
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     mem_kb = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal"))
@@ -226,6 +257,8 @@ def main():
     ap.add_argument("--only", default=",".join(VARIANTS), help="comma-separated variants to run")
     ap.add_argument("--no-wire", action="store_true", help="skip the wire micro-benchmark")
     ap.add_argument("--report-only", action="store_true", help="rebuild report.md from OUT/runs only")
+    ap.add_argument("--add", action="store_true",
+                    help="keep what OUT already holds and add these runs (e.g. --only long after a full bench)")
     args = ap.parse_args()
     out_dir = os.path.abspath(args.out)
     os.makedirs(out_dir, exist_ok=True)
@@ -248,6 +281,7 @@ def main():
     os.environ.setdefault("ROS_HOME", os.path.join(out_dir, "ros_home"))
 
     manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}
+    previous = read_manifest(out_dir) if args.add else None
     with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
     progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long")])
                                          + (1 if any("blank" in v for v in variants) else 0))
@@ -283,7 +317,7 @@ def main():
             expected = seconds + (45 if variant.startswith("split") else 25)
             entry["runs"].append(run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected))
         manifest["datasets"].append(entry)
-        json.dump(manifest, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
+        save_manifest(out_dir, manifest, previous)
     long_dir = os.path.join(ROOT, LONG_DATASET)
     if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
         seconds = sequence_seconds(long_dir)
@@ -298,12 +332,12 @@ def main():
         synthetic = os.path.join(ROOT, "bags/synthetic_room")
         run_wire_benchmark(progress, out_dir, synthetic if os.path.isdir(synthetic) else datasets[0])
     manifest["bench_wall_s"] = round(time.time() - t_start, 1)
-    json.dump(manifest, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
+    manifest = save_manifest(out_dir, manifest, previous)
     progress.start("report:")
     rc = subprocess.call(report)
     progress.done("ok" if rc == 0 else f"FAILED (exit {rc})")
     if rc == 0:
-        print(f"bench: wrote {out_dir}/report.md and bench.json in {manifest['bench_wall_s'] / 60:.1f} min")
+        print(f"bench: wrote {out_dir}/report.md and bench.json in {(time.time() - t_start) / 60:.1f} min")
     sys.exit(rc)
 
 

@@ -570,7 +570,10 @@ def main():
     m = manifest.get("machine", {})
     rep.line("# Edge-SLAM benchmark report")
     rep.line()
-    rep.line(f"- date: {m.get('date', '?')}; bench wall time {fmt((manifest.get('bench_wall_s') or 0) / 60, '.1f')} min")
+    added = "".join(f"; runs added {a['machine']['date']} ({fmt((a.get('bench_wall_s') or 0) / 60, '.1f')} min, "
+                    f"commit `{a['machine']['commit'][:10]}`)" for a in manifest.get("added", []))
+    rep.line(f"- date: {m.get('date', '?')}; `make bench` wall time {fmt((manifest.get('bench_wall_s') or 0) / 60, '.1f')} "
+             f"min{added}")
     rep.line(f"- machine: {m.get('nproc', '?')} cores ({m.get('cpu_model', '?')}), {m.get('ram_gib', '?')} GiB RAM, "
              f"Linux {m.get('kernel', '?')}; load average at start {', '.join(f'{x:.2f}' for x in m.get('load_average_at_start', []))} "
              "(shared machine: timings are noisy, ratios come from one run)")
