@@ -39,6 +39,7 @@ BANDWIDTH_LEVELS = {"high": (51, 67), "medium": (20, 20), "low": (15, 10)}
 SAMPLER_ROLES = {"monolithic": ["mobile=edge_slam_run"],
                  "split": ["mobile=__name:=mobile_manager", "edge=__name:=edge_manager"]}
 MOBILE_NS = "/edge_slam/mobile"
+RUNNING = []  # process groups of the phase in progress: stopped on Ctrl-C (they run in their own sessions)
 
 
 class Progress:
@@ -79,6 +80,20 @@ def free_port():
 def sequence_seconds(folder):
     stamps = [float(l.split()[0]) for l in open(os.path.join(folder, "rgb.txt")) if l.strip() and l[0] != "#"]
     return stamps[-1] - stamps[0]
+
+
+def default_datasets():
+    """DEFAULT_DATASETS that exist, relative to this checkout or, in a git worktree, to the main
+    checkout (../shared is next to the main clone, not next to the worktree)."""
+    common = subprocess.run(["git", "rev-parse", "--path-format=absolute", "--git-common-dir"], cwd=ROOT,
+                            capture_output=True, text=True).stdout.strip()
+    bases = [ROOT] + ([os.path.dirname(common)] if common.endswith("/.git") else [])
+    found = []
+    for d in DEFAULT_DATASETS:
+        path = next((os.path.join(b, d) for b in bases if os.path.isdir(os.path.join(b, d))), None)
+        if path:
+            found.append(resolve_dataset(path))
+    return found
 
 
 def resolve_dataset(path):
@@ -122,6 +137,7 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
     t0 = time.time()
     proc = subprocess.Popen(["bash", "scripts/eval.sh"], cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
                             start_new_session=True)
+    RUNNING[:] = [proc]
     helpers = [subprocess.Popen(
         [sys.executable, os.path.join(HERE, "proc_sampler.py"), "--root-pid", str(proc.pid),
          "--out", os.path.join(run_dir, "proc.csv"), "--hz", "20"]
@@ -130,6 +146,7 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
         helpers.append(subprocess.Popen([sys.executable, os.path.join(HERE, "net_recorder.py"),
                                          "--out", os.path.join(run_dir, "net.csv")],
                                         stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
+    RUNNING.extend(helpers)
     if variant == "split_controller":
         if wait_for_service(MOBILE_NS + "/set_map_updates", proc, 120):
             windows = f"[[{turn[0]:.3f},{turn[1]:.3f}]]"
@@ -250,7 +267,26 @@ def machine_info():
             "load_average_at_start": os.getloadavg()}
 
 
+def stop_running():
+    for p in RUNNING:
+        if p.poll() is None:
+            try:
+                os.killpg(p.pid, signal.SIGINT)
+                p.wait(20)
+            except (ProcessLookupError, subprocess.TimeoutExpired):
+                os.killpg(p.pid, signal.SIGKILL)
+
+
 def main():
+    try:
+        run()
+    except KeyboardInterrupt:
+        sys.stderr.write("\nbench: interrupted; stopping the running phase\n")
+        stop_running()
+        sys.exit(130)
+
+
+def run():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", required=True)
     ap.add_argument("--dataset", action="append", default=[])
@@ -267,8 +303,7 @@ def main():
     if args.report_only:
         sys.exit(subprocess.call(report))
 
-    datasets = [resolve_dataset(d) for d in args.dataset] if args.dataset else \
-        [resolve_dataset(d) for d in DEFAULT_DATASETS if os.path.isdir(os.path.join(ROOT, d))]
+    datasets = [resolve_dataset(d) for d in args.dataset] if args.dataset else default_datasets()
     variants = [v for v in args.only.split(",") if v]
     unknown = set(variants) - set(VARIANTS)
     if unknown:
