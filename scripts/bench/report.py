@@ -88,14 +88,16 @@ def plot_trajectories(path, name, results):
 
 # ---------------------------------------------------------------- latency (Fig. 7)
 
-def plot_tracking(path, name, series):
+def plot_tracking(path, name, series, t0, turn):
+    """series: mode -> (stamps, ms); t0: the sequence's first stamp; turn: fastest-turn window."""
     fig, ax = plt.subplots(figsize=(9, 4))
+    ax.axvspan(turn[0] - t0, turn[1] - t0, color="0.85", label="fastest turn (ground truth)")
     drawn = False
     for mode, (t, ms) in series.items():
         if t is None or not len(t):
             continue
-        t = t - t[0]
-        ax.plot(t, ms, color=COLORS[mode], lw=0.6, alpha=0.35)
+        t = t - t0
+        ax.plot(t, ms, color=COLORS[mode], lw=0.6, alpha=0.3)
         k = 15  # half a second at 30 fps
         if len(ms) > k:
             ax.plot(t[k - 1:], np.convolve(ms, np.ones(k) / k, mode="valid"), color=COLORS[mode], lw=1.8,
@@ -355,7 +357,8 @@ def main():
             body.line("not measured (no metrics.json)")
             body.line()
         series = {mode: frame_times(run(mode)) for mode in MODES}
-        if plot_tracking(os.path.join(out, f"tracking_{name}.png"), name, series):
+        t0 = ds["fast_turn"][0] - ds.get("fast_turn_from_start", [0])[0]
+        if plot_tracking(os.path.join(out, f"tracking_{name}.png"), name, series, t0, ds["fast_turn"]):
             body.image(f"tracking_{name}.png", f"{name} tracking latency")
         missing = [m for m, s in series.items() if s[0] is None]
         if missing:
