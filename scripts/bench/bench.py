@@ -293,6 +293,8 @@ def run():
     ap.add_argument("--only", default=",".join(VARIANTS), help="comma-separated variants to run")
     ap.add_argument("--no-wire", action="store_true", help="skip the wire micro-benchmark")
     ap.add_argument("--report-only", action="store_true", help="rebuild report.md from OUT/runs only")
+    ap.add_argument("--long-modes", default="monolithic,split",
+                    help="modes of the long run (split needs the long bag, converted on first use)")
     ap.add_argument("--add", action="store_true",
                     help="keep what OUT already holds and add these runs (e.g. --only long after a full bench)")
     args = ap.parse_args()
@@ -357,7 +359,7 @@ def run():
     if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
         seconds = sequence_seconds(long_dir)
         entry = {"path": long_dir, "name": os.path.basename(long_dir), "seconds": seconds, "runs": []}
-        for variant in ("monolithic", "split"):
+        for variant in args.long_modes.split(","):
             entry["runs"].append(run_variant(progress, out_dir, long_dir, f"long_{variant}", None, None,
                                              seconds + 40))
         manifest["long_run"] = entry
