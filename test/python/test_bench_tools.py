@@ -71,7 +71,8 @@ class ProcSamplerTest(unittest.TestCase):
     def test_samples_a_busy_child_of_the_root(self):
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, 'proc.csv')
-            busy = 'import time\nt = time.time()\nwhile time.time() - t < 1.5: pass\n'
+            # Spins until it has used 0.6 s of CPU, however loaded the machine is (no wall-time assumption).
+            busy = 'import time\nwhile time.process_time() < 0.6: pass\n'
             root = subprocess.Popen(['/bin/sh', '-c', f'{sys.executable} -c "{busy}" bench_busy_marker; true'])
             sampler = subprocess.run([sys.executable, os.path.join(BENCH, 'proc_sampler.py'), '--root-pid',
                                       str(root.pid), '--out', out, '--hz', '20', '--role', 'busy=bench_busy_marker',
@@ -80,10 +81,10 @@ class ProcSamplerTest(unittest.TestCase):
             self.assertEqual(sampler.returncode, 0)
             with open(out) as f:
                 rows = list(csv.DictReader(f))
-        self.assertGreater(len(rows), 10)
+        self.assertGreaterEqual(len(rows), 3)
         self.assertEqual({r['role'] for r in rows}, {'busy'})
         cpu = [float(r['cpu_s']) for r in rows]
-        self.assertGreater(cpu[-1], 0.5)  # a busy loop of 1.5 s
+        self.assertGreater(cpu[-1], 0.3)  # most of the 0.6 CPU-s (the last 50 ms may fall after the last sample)
         self.assertEqual(cpu, sorted(cpu))
         self.assertTrue(all(int(r['rss_kb']) > 0 for r in rows))
 
