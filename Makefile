@@ -6,6 +6,8 @@
 #   make test-split                  the split acceptance rostest on the embedded bag (see test/rostest_split)
 #   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
 #   make bench [DATASET=<TUM folder or bag> ...] [OUT=<dir>]   benchmark suite -> OUT/report.md, bench.json
+#   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
+#   make test-asan                   ASan+UBSan build: every unit test + one monolithic run
 SHELL := /bin/bash
 DATASET ?= bags/synthetic_room
 MODE ?= monolithic
@@ -34,3 +36,8 @@ bench:
 	DATASET="$(if $(filter command line environment,$(origin DATASET)),$(DATASET))" \
 	OUT="$(if $(filter command line environment,$(origin OUT)),$(OUT))" BENCH_ARGS="$(BENCH_ARGS)" \
 	bash scripts/bench/bench.sh
+.PHONY: fuzz test-asan
+fuzz:
+	FUZZ_SECONDS="$(or $(FUZZ_SECONDS),60)" bash scripts/fuzz.sh
+test-asan:
+	bash scripts/test_asan.sh

@@ -4,6 +4,9 @@
 #   runner: $EDGE_SLAM_RUN, else .ws/devel/lib/edge_slam_common/edge_slam_run
 #   ATE:    .venv/bin/evo_ape (tum <gt> <traj> -a) if present, else scripts/ate.py
 # Extra runner options can be passed in EDGE_SLAM_ARGS (e.g. "--camera config/camera_tum1.yaml").
+# Without --vocabulary in EDGE_SLAM_ARGS, a dataset other than bags/synthetic_room gets a
+# vocabulary trained on itself (train_vocabulary next to the runner, or
+# $EDGE_SLAM_TRAIN_VOCABULARY), cached in results/cache/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,6 +27,34 @@ if [[ ! -f "$DATASET/groundtruth.txt" ]]; then
   exit 1
 fi
 
+VOCAB=""
+# Vocabulary: the configured default was trained on the synthetic sequence. For any other
+# dataset without --vocabulary, train one from the dataset itself, as the reference ORB-SLAM2
+# figures were obtained (vocabulary trained on the sequence itself), into a git-ignored cache
+# keyed by the dataset's real path. Derived from the dataset: never commit results/cache/.
+if [[ "${EDGE_SLAM_ARGS:-}" != *--vocabulary* ]]; then
+  SYNTH_RGB=$(realpath -e bags/synthetic_room/rgb.txt 2>/dev/null || true)
+  if [[ "$(realpath -e "$DATASET/rgb.txt" 2>/dev/null || true)" != "$SYNTH_RGB" || -z "$SYNTH_RGB" ]]; then
+    TRAIN="${EDGE_SLAM_TRAIN_VOCABULARY:-.ws/devel/lib/edge_slam_common/train_vocabulary}"
+    KEY=$(realpath "$DATASET" | sha1sum | cut -c1-12)
+    VOCAB="results/cache/vocabulary-$(basename "$DATASET")-$KEY.bin"
+    if [[ ! -s "$VOCAB" ]]; then
+      if [[ ! -x "$TRAIN" ]]; then
+        echo "eval: vocabulary trainer '$TRAIN' not found; build first or set EDGE_SLAM_TRAIN_VOCABULARY" >&2
+        exit 1
+      fi
+      echo "eval: no --vocabulary given and $DATASET is not the synthetic sequence: training a vocabulary" \
+           "from the dataset itself (every 3rd frame), as for the reference ORB-SLAM2 run -> $VOCAB" \
+           "(cached, git-ignored, never commit it)" >&2
+      mkdir -p results/cache
+      "$TRAIN" --out "$VOCAB.tmp" --every 3 "$DATASET" >&2
+      mv "$VOCAB.tmp" "$VOCAB"
+    else
+      echo "eval: using the vocabulary trained on $DATASET itself: $VOCAB (cached)" >&2
+    fi
+  fi
+fi
+
 if [[ "$MODE" == "split" ]]; then
   # The same camera and vocabulary choice as the runner's: --camera/--vocabulary in EDGE_SLAM_ARGS,
   # else <dataset>/camera.yaml (fr1 folders: config/camera_tum1.yaml) and the default vocabulary.
@@ -33,7 +64,7 @@ if [[ "$MODE" == "split" ]]; then
     CAMERA="$DATASET/camera.yaml"
     case "$(basename "$DATASET")" in *fr1*|*freiburg1*) [[ -f "$CAMERA" ]] || CAMERA=config/camera_tum1.yaml ;; esac
   fi
-  VOCABULARY="${VOCABULARY:-bags/vocabulary_synthetic.bin}"
+  VOCABULARY="${VOCABULARY:-${VOCAB:-bags/vocabulary_synthetic.bin}}"
   [[ "$VOCABULARY" = /* ]] || VOCABULARY="$PWD/$VOCABULARY"
   DATASET="$DATASET" OUT="$OUT" CAMERA="$CAMERA" VOCABULARY="$VOCABULARY" bash scripts/eval_split.sh
 else
@@ -54,7 +85,7 @@ else
 
   mkdir -p "$OUT"
   # shellcheck disable=SC2086
-  "$RUN" "${ARGS[@]}" ${EDGE_SLAM_ARGS:-}
+  "$RUN" "${ARGS[@]}" ${VOCAB:+--vocabulary "$VOCAB"} ${EDGE_SLAM_ARGS:-}
 fi
 
 TRAJ="$OUT/trajectory.txt"

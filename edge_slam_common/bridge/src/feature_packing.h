@@ -66,6 +66,8 @@ void pack_camera_and_features(const CameraRecord& cam, const FeatureRecord& f, M
 template <class Msg>
 DecodeStatus unpack_camera_and_features(const Msg& msg, const MessageLimits& limits,
                                         CameraRecord& cam, FeatureRecord& f) {
+  if (msg.camera_name.size() > limits.max_camera_name)
+    return DecodeStatus::failure("camera_name longer than " + std::to_string(limits.max_camera_name) + " bytes");
   for (int i = 0; i < 4; ++i)
     if (!finite(msg.intrinsics[i]))
       return DecodeStatus::failure("intrinsics[" + std::to_string(i) + "] is not finite");

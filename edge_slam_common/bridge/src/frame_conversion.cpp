@@ -2,6 +2,7 @@
 #include <edge_slam_bridge/message_conversion.h>
 
 #include <cmath>
+#include <edge_slam/io/record_checks.h>
 
 #include "feature_packing.h"
 
@@ -27,6 +28,8 @@ DecodeStatus from_message(const edge_slam_msgs::Frame& msg, FrameRecord& out, co
   if (!s.ok) return DecodeStatus::failure("Frame " + std::to_string(msg.id) + ": " + s.error);
   if (!std::isfinite(msg.created_wall))
     return DecodeStatus::failure("Frame " + std::to_string(msg.id) + ": created_wall is not finite");
+  if (std::string problem = feature_record_problem(r.features); !problem.empty())
+    return DecodeStatus::failure("Frame " + std::to_string(msg.id) + ": " + problem);
   r.seq = msg.seq;
   r.id = msg.id;
   r.stamp = msg.stamp.toSec();

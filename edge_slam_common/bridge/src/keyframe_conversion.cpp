@@ -1,10 +1,13 @@
 // KeyFrameRecord <-> edge_slam_msgs::KeyFrame.
 #include <edge_slam_bridge/message_conversion.h>
 
+#include <edge_slam/io/record_checks.h>
+#include <edge_slam_bridge/pose_conversion.h>
+#include <ros/serialization.h>
+
 #include <cmath>
 
 #include "feature_packing.h"
-#include <edge_slam_bridge/pose_conversion.h>
 
 namespace edge_slam {
 
@@ -44,6 +47,9 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
     return DecodeStatus::failure("KeyFrame version " + std::to_string(msg.version) + ", expected " +
                                  std::to_string(edge_slam_msgs::KeyFrame::FORMAT_VERSION));
   if (msg.id == kNoId) return DecodeStatus::failure("KeyFrame id is the reserved 'no id' value");
+  if (ros::serialization::serializationLength(msg) > limits.max_message_bytes)
+    return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + " exceeds " +
+                                 std::to_string(limits.max_message_bytes) + " bytes");
   KeyFrameRecord r;
   if (!pose_from_message(msg.pose, r.T_wc))
     return DecodeStatus::failure("KeyFrame pose is not finite or its quaternion is not unit length");
@@ -83,8 +89,12 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   if (msg.covis_ids.size() != msg.covis_weights.size())
     return DecodeStatus::failure("covis_ids and covis_weights differ in length");
   if (msg.covis_ids.size() > limits.max_covisibility) return DecodeStatus::failure("too many covisibility links");
-  for (size_t i = 0; i < msg.covis_ids.size(); ++i)
+  for (size_t i = 0; i < msg.covis_ids.size(); ++i) {
+    if (msg.covis_ids[i] == kNoId || msg.covis_ids[i] == msg.id)
+      return DecodeStatus::failure("covis_ids[" + std::to_string(i) + "] is the reserved id or the KeyFrame itself");
     r.covisibility.emplace_back(msg.covis_ids[i], msg.covis_weights[i]);
+  }
+  if (msg.parent_id == msg.id) return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + " is its own parent");
 
   if (!std::isfinite(msg.created_wall)) return DecodeStatus::failure("created_wall is not finite");
   r.seq = msg.seq;
@@ -94,6 +104,9 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   r.created_wall = msg.created_wall;
   r.reset = msg.reset;
   r.parent_id = msg.parent_id;
+  // The remaining record-level rules (one point per keypoint, unique links, ranges) are the
+  // core's, shared with every other way a record can arrive.
+  if (std::string problem = keyframe_record_problem(r); !problem.empty()) return DecodeStatus::failure(problem);
   out = std::move(r);
   return {};
 }

@@ -1,6 +1,9 @@
 // MapUpdateRecord <-> edge_slam_msgs::MapUpdate.
 #include <edge_slam_bridge/message_conversion.h>
 
+#include <edge_slam/io/record_checks.h>
+#include <ros/serialization.h>
+
 #include <cstring>
 
 namespace edge_slam {
@@ -46,6 +49,8 @@ DecodeStatus from_message(const edge_slam_msgs::MapUpdate& msg, MapUpdateRecord&
                                  std::to_string(edge_slam_msgs::MapUpdate::FORMAT_VERSION));
   if (msg.kind > edge_slam_msgs::MapUpdate::KIND_RELOCALIZATION)
     return DecodeStatus::failure("MapUpdate kind " + std::to_string(msg.kind) + " is unknown");
+  if (ros::serialization::serializationLength(msg) > limits.max_message_bytes)
+    return DecodeStatus::failure("MapUpdate exceeds " + std::to_string(limits.max_message_bytes) + " bytes");
   if (msg.keyframes.size() > limits.max_keyframes_per_update)
     return DecodeStatus::failure("MapUpdate holds too many KeyFrames: " + std::to_string(msg.keyframes.size()));
   const auto& pts = msg.points;
@@ -86,6 +91,8 @@ DecodeStatus from_message(const edge_slam_msgs::MapUpdate& msg, MapUpdateRecord&
         !std::isfinite(p.max_distance))
       return DecodeStatus::failure("MapUpdate point " + std::to_string(p.id) + " has non-finite values");
   }
+  if (std::string problem = map_update_record_problem(r); !problem.empty())
+    return DecodeStatus::failure("MapUpdate: " + problem);
   out = std::move(r);
   return {};
 }

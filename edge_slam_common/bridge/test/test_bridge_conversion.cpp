@@ -101,7 +101,10 @@ TEST(BridgeConversion, MapUpdateRoundTripAndRejection) {
   in.seq = 3;
   in.request_frame_id = 99;
   in.last_keyframe_seq = 41;
-  for (uint32_t k = 0; k < 6; ++k) in.keyframes.push_back(make_keyframe(100, 50, 0, k));
+  for (uint32_t k = 0; k < 6; ++k) {
+    in.keyframes.push_back(make_keyframe(100, 50, 0, k));
+    in.keyframes.back().id = 100 + k;  // an update holds each KeyFrame once
+  }
   for (uint32_t i = 0; i < 300; ++i) {
     MapPointRecord p;
     p.id = 1000 + i;

@@ -1,9 +1,12 @@
 #include "edge_slam/io/map_records.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/io/record_checks.h"
 
 namespace edge_slam {
 
@@ -38,8 +41,9 @@ KeyFrameRecord to_record(const KeyFrame& kf, const Map& map, const std::unordere
   r.camera = to_camera_record(kf.features().camera);
   r.features = to_feature_record(kf.features());
   const std::vector<uint32_t> ids = kf.map_point_ids();
+  std::unordered_set<uint32_t> sent;  // receivers reject a point seen at two keypoints
   for (size_t i = 0; i < ids.size(); ++i) {
-    if (ids[i] == kNoId) continue;
+    if (ids[i] == kNoId || !sent.insert(ids[i]).second) continue;
     const std::shared_ptr<MapPoint> mp = map.map_point(ids[i]);
     if (!mp || mp->is_bad()) continue;
     if (created.count(ids[i])) {
@@ -48,9 +52,9 @@ KeyFrameRecord to_record(const KeyFrame& kf, const Map& map, const std::unordere
       r.observations.emplace_back(static_cast<uint32_t>(i), ids[i]);
     }
   }
-  r.parent_id = kf.parent_id();
+  r.parent_id = kf.parent_id() == kf.id() ? kNoId : kf.parent_id();
   for (const auto& [id, weight] : kf.connection_weights())
-    r.covisibility.emplace_back(id, static_cast<uint32_t>(weight));
+    if (id != kf.id()) r.covisibility.emplace_back(id, static_cast<uint32_t>(std::max(weight, 0)));
   return r;
 }
 
@@ -93,10 +97,9 @@ std::shared_ptr<const FrameFeatures> features_from_record(const FeatureRecord& i
                                                           std::shared_ptr<const ScalePyramid> pyramid) {
   const std::string mismatch = camera_mismatch(rc, camera);
   if (!mismatch.empty()) throw std::invalid_argument("camera mismatch: " + mismatch);
+  if (std::string problem = feature_record_problem(in); !problem.empty())
+    throw std::invalid_argument("feature record: " + problem);
   const size_t n = in.keypoints.size();
-  if (in.depth.size() != n || in.descriptors.rows != static_cast<int>(n) ||
-      (n > 0 && (in.descriptors.cols != 32 || in.descriptors.type() != CV_8U)))
-    throw std::invalid_argument("feature record sizes disagree with " + std::to_string(n) + " keypoints");
   for (const cv::KeyPoint& kp : in.keypoints)
     if (kp.octave < 0 || kp.octave >= pyramid->num_levels)
       throw std::invalid_argument("keypoint octave " + std::to_string(kp.octave) + " outside the " +
@@ -120,29 +123,29 @@ std::shared_ptr<const FrameFeatures> features_from_record(const FeatureRecord& i
 
 std::shared_ptr<KeyFrame> keyframe_from_record(const KeyFrameRecord& r, const PinholeCamera& camera,
                                                std::shared_ptr<const ScalePyramid> pyramid) {
+  if (std::string problem = keyframe_record_problem(r); !problem.empty()) throw std::invalid_argument(problem);
   auto features = features_from_record(r.features, r.camera, camera, std::move(pyramid));
   auto kf = std::make_shared<KeyFrame>(r.id, r.frame_id, r.stamp, features, r.T_wc.inverse());
-  const size_t n = features->size();
-  for (const auto& [kp, point] : r.observations) {
-    if (kp >= n) throw std::invalid_argument("observation keypoint index out of range");
-    kf->set_map_point_id(kp, point);
-  }
-  for (const NewPointRecord& p : r.new_points) {
-    if (p.kp_index >= n) throw std::invalid_argument("new point keypoint index out of range");
-    kf->set_map_point_id(p.kp_index, p.id);
-  }
-  if (r.parent_id != kNoId && r.parent_id != r.id) kf->set_parent(r.parent_id);
+  for (const auto& [kp, point] : r.observations) kf->set_map_point_id(kp, point);
+  for (const NewPointRecord& p : r.new_points) kf->set_map_point_id(p.kp_index, p.id);
+  if (r.parent_id != kNoId) kf->set_parent(r.parent_id);
   return kf;
 }
 
 std::shared_ptr<MapPoint> map_point_from_record(const MapPointRecord& r) {
+  if (std::string problem = map_point_record_problem(r); !problem.empty()) throw std::invalid_argument(problem);
   auto mp = std::make_shared<MapPoint>(r.id, r.position.cast<double>(), r.ref_keyframe_id);
   mp->set_descriptor(r.descriptor.data());
-  mp->set_normal_and_distances(r.normal.cast<double>(), r.min_distance, r.max_distance);
+  // Records carry min_distance()/max_distance(), which include the 0.8 / 1.2 scale margins;
+  // store the raw range so that the margins are not applied twice after every hop.
+  mp->set_normal_and_distances(r.normal.cast<double>(), r.min_distance / 0.8f, r.max_distance / 1.2f);
   return mp;
 }
 
 std::shared_ptr<MapPoint> map_point_from_new_point(const NewPointRecord& r, const KeyFrame& kf) {
+  if (r.id == kNoId || r.kp_index >= kf.features().size() || !r.position.allFinite())
+    throw std::invalid_argument("new point " + std::to_string(r.id) + " is invalid for KeyFrame " +
+                                std::to_string(kf.id()));
   auto mp = std::make_shared<MapPoint>(r.id, r.position.cast<double>(), kf.id());
   mp->set_descriptor(kf.features().descriptor(r.kp_index));
   return mp;
@@ -151,6 +154,8 @@ std::shared_ptr<MapPoint> map_point_from_new_point(const NewPointRecord& r, cons
 RebuildStats rebuild_from_update(Map& map, const MapUpdateRecord& update, const PinholeCamera& camera,
                                  std::shared_ptr<const ScalePyramid> pyramid, const BowVocabulary* vocabulary) {
   // Build every object first: a bad record throws before the map is touched.
+  if (std::string problem = map_update_record_problem(update); !problem.empty())
+    throw std::invalid_argument("map update: " + problem);
   std::vector<std::shared_ptr<KeyFrame>> kfs;
   kfs.reserve(update.keyframes.size());
   for (const KeyFrameRecord& r : update.keyframes) {

@@ -1,11 +1,13 @@
 #include "edge_slam/module/edge_session.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
+#include "edge_slam/io/map_snapshot.h"
 
 namespace edge_slam {
 
@@ -25,7 +27,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   EdgeSessionParams p;
   p.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.min_frames_after_relocalization = cfg.get_int_or("tracking/min_frames_after_relocalization", 20, 0, 100000);
-  p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 0, 100000);
+  p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 1, 100000);  // as tracking reads it
   p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
   return p;
 }
@@ -205,6 +207,49 @@ void EdgeSession::reset_locked() {
   }
   any_inserted_ = false;
   relocalization_sent_ = false;
+  start_modules();
+}
+
+void EdgeSession::save_map(const std::string& path) const {
+  MapSnapshot snapshot;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+    snapshot = snapshot_map(*map_);
+    snapshot.last_keyframe_seq = counters_.last_seq;
+  }
+  write_map_file(snapshot, path);  // no lock held: receiving and mapping go on meanwhile
+}
+
+void EdgeSession::load_map(const std::string& path) {
+  // Read, check and build everything before touching the session, so a bad file changes nothing.
+  const MapSnapshot snapshot = read_map_file(path);
+  MapObjects objects;
+  try {
+    objects = map_objects_from_snapshot(snapshot, camera_, pyramid_, vocabulary_.get());
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error("map file '" + path + "': " + e.what());
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  stop_modules();
+  {
+    std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+    map_->clear();
+    install_snapshot(snapshot, objects, *map_, *database_);
+  }
+  // The restored KeyFrames count as received: a resent copy is a duplicate.
+  inserted_.clear();
+  seen_ids_.clear();
+  last_inserted_frame_id_ = 0;
+  for (const auto& kf : map_->keyframes()) {  // by id, the order the mobile created them in
+    inserted_.push_back(kf->id());
+    seen_ids_.insert(kf->id());
+    last_inserted_frame_id_ = std::max<uint64_t>(last_inserted_frame_id_, kf->frame_id());
+  }
+  while (inserted_.size() > 1000) inserted_.pop_front();
+  any_inserted_ = !seen_ids_.empty();
+  relocalization_sent_ = false;
+  counters_.last_seq = std::max(counters_.last_seq, snapshot.last_keyframe_seq);
   start_modules();
 }
 

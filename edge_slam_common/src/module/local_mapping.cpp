@@ -193,6 +193,9 @@ void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
   }
   if (problem.keyframes.empty()) return;
   LocalBaOptions options;
+  options.first_pass_iterations = params_.ba_first_pass_iterations;
+  options.second_pass_iterations = params_.ba_second_pass_iterations;
+  options.num_threads = params_.ba_num_threads;
   options.abort = &abort_ba_;
   const BundleAdjustmentResult result = run_local_bundle_adjustment(problem, options);
   if (result.ok) {

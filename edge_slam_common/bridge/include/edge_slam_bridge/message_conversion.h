@@ -19,7 +19,9 @@ struct MessageLimits {
   size_t max_keyframes_per_update = 2000;
   size_t max_points_per_update = 2000000;
   size_t max_covisibility = 4000;
+  size_t max_camera_name = 256;
   int max_image_side = 8192;
+  size_t max_message_bytes = 256u << 20;  // serialized size
 };
 
 // Result of decoding: `ok` false means `error` says which field was wrong and what was expected.

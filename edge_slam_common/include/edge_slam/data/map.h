@@ -49,6 +49,9 @@ class Map {
   void set_map_point_id_space(uint32_t first, uint32_t end);
   // Makes future ids larger than any id already used (e.g. ids coming from another map).
   void reserve_ids(uint32_t next_kf_id, uint32_t next_mp_id);
+  // The ids the allocators would hand out next, without taking them (map persistence).
+  uint32_t next_keyframe_id() const { return next_kf_id_; }
+  uint32_t next_map_point_id() const { return next_mp_id_; }
 
   // Held by a module while it changes the map as a whole (like ORB-SLAM2's
   // mMutexMapUpdate), so that tracking never sees a half-applied update.

@@ -72,6 +72,13 @@ class EdgeSession {
   // Waits (bounded) for Local-Mapping and Loop-Closing to finish what is queued.
   bool wait_until_idle(double timeout_s) const;
 
+  // Global-Map persistence (io/map_file.h). save_map snapshots the map under the locks and
+  // writes outside them (atomically); load_map reads and checks the file first, then replaces
+  // the map, the KeyFrame database and the de-duplication state, restarting the mapping
+  // threads. Both throw std::runtime_error with the reason; a failed load keeps the old map.
+  void save_map(const std::string& path) const;
+  void load_map(const std::string& path);
+
   EdgeCounters counters() const;
   std::shared_ptr<const Map> global_map() const { return map_; }
   int loops_closed() const;

@@ -19,23 +19,13 @@
 #include "edge_slam/data/keyframe.h"
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
-#include "edge_slam/module/keyframe_culling.h"
+#include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/map_point_culling.h"
-#include "edge_slam/module/triangulation.h"
 #include "edge_slam/util/bounded_queue.h"
 
 namespace edge_slam {
 
 class BowVocabulary;
-
-struct LocalMappingParams {
-  MapPointCullingParams point_culling;
-  TriangulationParams triangulation;
-  KeyFrameCullingParams keyframe_culling;
-  bool local_ba = true;
-  bool cull_keyframes = true;
-  size_t queue_capacity = 1000;  // large: an evicted keyframe would never be processed
-};
 
 struct LocalMappingStats {
   int keyframes_processed = 0;

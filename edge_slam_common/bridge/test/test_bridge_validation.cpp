@@ -1,0 +1,152 @@
+// Each field rule of the message -> record decoding rejects its violation with a reason that
+// names the field, and leaves the output untouched.
+#include <edge_slam_bridge/message_conversion.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "support/wire_fixtures.h"
+
+namespace edge_slam {
+namespace {
+
+template <class Msg, class Record>
+void expect_rejected(const Msg& good, const std::function<void(Msg&)>& spoil, const char* word,
+                     const MessageLimits& limits = MessageLimits()) {
+  Msg m = good;
+  spoil(m);
+  Record out;
+  out.seq = 4242;
+  const DecodeStatus s = from_message(m, out, limits);
+  EXPECT_FALSE(s.ok) << "accepted; expected an error about '" << word << "'";
+  EXPECT_NE(s.error.find(word), std::string::npos) << "error '" << s.error << "' does not mention '" << word << "'";
+  EXPECT_EQ(out.seq, 4242u) << "a rejected message must leave the output untouched";
+}
+
+using KfMsg = edge_slam_msgs::KeyFrame;
+using FrameMsg = edge_slam_msgs::Frame;
+using UpdateMsg = edge_slam_msgs::MapUpdate;
+
+void kf_rejected(const std::function<void(KfMsg&)>& spoil, const char* word, const MessageLimits& l = {}) {
+  static const KfMsg good = to_message(fixtures::keyframe(7, 60, 20, 10));
+  expect_rejected<KfMsg, KeyFrameRecord>(good, spoil, word, l);
+}
+
+TEST(BridgeValidation, GoodMessagesDecode) {
+  KeyFrameRecord kf;
+  EXPECT_TRUE(from_message(to_message(fixtures::keyframe(7, 60, 20, 10)), kf).ok);
+  FrameRecord f;
+  EXPECT_TRUE(from_message(to_message(fixtures::frame(80)), f).ok);
+  MapUpdateRecord u;
+  const DecodeStatus s = from_message(to_message(fixtures::map_update(4, 50, 30)), u);
+  EXPECT_TRUE(s.ok) << s.error;
+}
+
+TEST(BridgeValidation, KeyFrameHeaderPoseAndCamera) {
+  kf_rejected([](KfMsg& m) { m.version = 2; }, "version");
+  kf_rejected([](KfMsg& m) { m.id = kNoId; }, "reserved");
+  kf_rejected([](KfMsg& m) { m.pose.position.z = INFINITY; }, "pose");
+  kf_rejected([](KfMsg& m) { m.pose.orientation.x = NAN; }, "pose");
+  kf_rejected([](KfMsg& m) { m.pose.orientation.w = 0.5; }, "quaternion");
+  kf_rejected([](KfMsg& m) { m.pose.position.x = 1e12; }, "range");
+  kf_rejected([](KfMsg& m) { m.intrinsics[2] = NAN; }, "intrinsics[2]");
+  kf_rejected([](KfMsg& m) { m.intrinsics[1] = -5; }, "fx, fy");
+  kf_rejected([](KfMsg& m) { m.bf = -1; }, "bf");
+  kf_rejected([](KfMsg& m) { m.th_depth = NAN; }, "th_depth");
+  kf_rejected([](KfMsg& m) { m.height = 0; }, "width/height");
+  kf_rejected([](KfMsg& m) { m.width = 9000; }, "width/height");
+  kf_rejected([](KfMsg& m) { m.camera_name.assign(300, 'c'); }, "camera_name");
+}
+
+TEST(BridgeValidation, KeyFrameFeatureArrays) {
+  kf_rejected([](KfMsg& m) { m.kp_xy.pop_back(); }, "kp_xy");
+  kf_rejected([](KfMsg& m) { m.kp_angle.push_back(0); }, "kp_angle");
+  kf_rejected([](KfMsg& m) { m.kp_depth.pop_back(); }, "kp_depth");
+  kf_rejected([](KfMsg& m) { m.kp_octave[5] = 40; }, "kp_octave");
+  kf_rejected([](KfMsg& m) { m.descriptors.pop_back(); }, "32 per keypoint");
+  kf_rejected([](KfMsg& m) { m.descriptors.resize(31 * m.kp_octave.size()); }, "32 per keypoint");
+  MessageLimits few;
+  few.max_keypoints = 50;
+  kf_rejected([](KfMsg&) {}, "too many keypoints", few);
+}
+
+TEST(BridgeValidation, KeyFrameObservationsAndNewPoints) {
+  kf_rejected([](KfMsg& m) { m.obs_point_id.pop_back(); }, "differ in length");
+  kf_rejected([](KfMsg& m) { m.obs_kp_index[3] = 60; }, "obs_kp_index[3]");
+  kf_rejected([](KfMsg& m) { m.obs_point_id[2] = kNoId; }, "reserved point id");
+  kf_rejected([](KfMsg& m) { m.obs_kp_index[1] = m.obs_kp_index[0]; }, "reuses keypoint");
+  kf_rejected([](KfMsg& m) { m.obs_point_id[1] = m.obs_point_id[0]; }, "repeats point");
+  kf_rejected([](KfMsg& m) { m.obs_kp_index.resize(61, 0), m.obs_point_id.resize(61, 5); }, "more observations");
+  kf_rejected([](KfMsg& m) { m.new_point_xyz.pop_back(); }, "new_point arrays");
+  kf_rejected([](KfMsg& m) { m.new_point_kp_index.pop_back(); }, "new_point arrays");
+  kf_rejected([](KfMsg& m) { m.new_point_id[0] = kNoId; }, "reserved id");
+  kf_rejected([](KfMsg& m) { m.new_point_id[0] = m.obs_point_id[0]; }, "repeats point");
+  kf_rejected([](KfMsg& m) { m.new_point_kp_index[2] = 600; }, "new_point_kp_index");
+  kf_rejected([](KfMsg& m) { m.new_point_xyz[4] = NAN; }, "not finite");
+  kf_rejected([](KfMsg& m) { m.new_point_xyz[4] = 1e30f; }, "out of range");
+  MessageLimits few;
+  few.max_new_points = 5;
+  kf_rejected([](KfMsg&) {}, "too many new points", few);
+}
+
+TEST(BridgeValidation, KeyFrameLinks) {
+  kf_rejected([](KfMsg& m) { m.parent_id = m.id; }, "own parent");
+  kf_rejected([](KfMsg& m) { m.covis_weights.pop_back(); }, "differ in length");
+  kf_rejected([](KfMsg& m) { m.covis_ids[0] = m.id; }, "covis_ids[0]");
+  kf_rejected([](KfMsg& m) { m.covis_ids[0] = kNoId; }, "covis_ids[0]");
+  kf_rejected([](KfMsg& m) { m.covis_ids.push_back(m.covis_ids[0]), m.covis_weights.push_back(1); },
+              "repeated covisibility");
+  MessageLimits few;
+  few.max_covisibility = 0;
+  kf_rejected([](KfMsg&) {}, "too many covisibility", few);
+  few = MessageLimits();
+  few.max_message_bytes = 1000;
+  kf_rejected([](KfMsg&) {}, "exceeds", few);
+}
+
+TEST(BridgeValidation, FrameFields) {
+  static const FrameMsg good = to_message(fixtures::frame(40));
+  auto rejected = [](const std::function<void(FrameMsg&)>& spoil, const char* word, const MessageLimits& l = {}) {
+    expect_rejected<FrameMsg, FrameRecord>(good, spoil, word, l);
+  };
+  rejected([](FrameMsg& m) { m.version = 0; }, "version");
+  rejected([](FrameMsg& m) { m.kp_xy.clear(); }, "kp_xy");
+  rejected([](FrameMsg& m) { m.descriptors.push_back(1); }, "32 per keypoint");
+  rejected([](FrameMsg& m) { m.intrinsics[0] = 0; }, "fx, fy");
+  rejected([](FrameMsg& m) { m.kp_octave[0] = 200; }, "kp_octave");
+  MessageLimits few;
+  few.max_keypoints = 10;
+  rejected([](FrameMsg&) {}, "too many keypoints", few);
+}
+
+TEST(BridgeValidation, MapUpdateFields) {
+  static const UpdateMsg good = to_message(fixtures::map_update(4, 50, 30));
+  auto rejected = [](const std::function<void(UpdateMsg&)>& spoil, const char* word, const MessageLimits& l = {}) {
+    expect_rejected<UpdateMsg, MapUpdateRecord>(good, spoil, word, l);
+  };
+  rejected([](UpdateMsg& m) { m.version = 9; }, "version");
+  rejected([](UpdateMsg& m) { m.kind = 2; }, "kind");
+  rejected([](UpdateMsg& m) { m.keyframes[1].id = m.keyframes[2].id; }, "repeats");
+  rejected([](UpdateMsg& m) { m.keyframes[0].parent_id = 3; }, "cycle");
+  rejected([](UpdateMsg& m) { m.keyframes[3].kp_depth.pop_back(); }, "keyframes[3]");
+  rejected([](UpdateMsg& m) { m.points.ids[4] = m.points.ids[3]; }, "repeats");
+  rejected([](UpdateMsg& m) { m.points.ids[4] = kNoId; }, "reserved");
+  rejected([](UpdateMsg& m) { m.points.positions[7] = NAN; }, "non-finite");
+  rejected([](UpdateMsg& m) { m.points.normals[7] = 5; }, "normal");
+  rejected([](UpdateMsg& m) { m.points.distances[0] = 9; }, "distance");
+  rejected([](UpdateMsg& m) { m.points.descriptors.pop_back(); }, "32 descriptor bytes");
+  rejected([](UpdateMsg& m) { m.points.ref_keyframe_ids.pop_back(); }, "disagree");
+  MessageLimits few;
+  few.max_keyframes_per_update = 3;
+  rejected([](UpdateMsg&) {}, "too many KeyFrames", few);
+  few = MessageLimits();
+  few.max_points_per_update = 29;
+  rejected([](UpdateMsg&) {}, "too many points", few);
+  few = MessageLimits();
+  few.max_message_bytes = 4096;
+  rejected([](UpdateMsg&) {}, "exceeds", few);
+}
+
+}  // namespace
+}  // namespace edge_slam

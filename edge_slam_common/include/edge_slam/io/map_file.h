@@ -1,0 +1,36 @@
+// The Global-Map on disk (edge persistence): a versioned binary file holding a MapSnapshot.
+// Layout: magic "ESMAPBIN", u32 version, u32 zero, u64 payload size, u64 FNV-1a of the
+// payload, then the payload (little-endian; KeyFrames with pose, camera, features,
+// descriptors, observations, parent, covisibility weights and loop edges; map points; the id
+// counters). Writing goes to a temporary file in the same folder which is then renamed over
+// the target, so a crash mid-write leaves the previous file intact.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "edge_slam/io/wire_records.h"
+
+namespace edge_slam {
+
+inline constexpr uint32_t kMapFileVersion = 1;
+
+struct MapSnapshot {
+  // Every KeyFrame (observations of all its points, parent, covisibility weights) and every
+  // map point; checked on load like a Local-Map update (io/record_checks.h).
+  MapUpdateRecord content;
+  std::unordered_map<uint32_t, std::vector<uint32_t>> loop_edges;  // KeyFrame id -> loop partners
+  uint32_t next_keyframe_id = 0, next_map_point_id = 0;             // the map's id allocators
+  uint64_t last_keyframe_seq = 0;                                   // delivery acknowledgement
+};
+
+std::vector<uint8_t> encode_map_file(const MapSnapshot& snapshot);
+// Throws std::runtime_error naming `origin` and what is wrong (magic, version, size, checksum,
+// truncation, or a record that fails its checks).
+MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string& origin);
+
+void write_map_file(const MapSnapshot& snapshot, const std::string& path);  // atomic; throws
+MapSnapshot read_map_file(const std::string& path);                         // throws
+
+}  // namespace edge_slam

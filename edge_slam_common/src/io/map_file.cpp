@@ -1,0 +1,251 @@
+#include "edge_slam/io/map_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+#include "byte_codec.h"
+#include "edge_slam/io/record_checks.h"
+
+namespace edge_slam {
+namespace {
+
+constexpr char kMagic[8] = {'E', 'S', 'M', 'A', 'P', 'B', 'I', 'N'};
+constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+constexpr size_t kFeatureBytes = 5 * 4 + 4 + 4 + 32;  // x y size angle response, octave, depth, descriptor
+constexpr size_t kPointBytes = 4 + 12 + 32 + 12 + 8 + 4;
+constexpr size_t kMinKeyFrameBytes = 8 + 4 + 4 + 8 + 96 + 4 + 5 * 8 + 4 + 8 + 4 + 4 + 4 + 4 + 4 + 4;
+
+void put_keyframe(ByteWriter& w, const KeyFrameRecord& r, const std::vector<uint32_t>& loops) {
+  w.put(r.seq);
+  w.put(r.id);
+  w.put(r.frame_id);
+  w.put(r.stamp);
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) w.put(r.T_wc.matrix()(row, col));
+  w.put_string(r.camera.name);
+  for (double v : {r.camera.fx, r.camera.fy, r.camera.cx, r.camera.cy, r.camera.bf}) w.put(v);
+  w.put(r.camera.th_depth);
+  w.put(static_cast<int32_t>(r.camera.width));
+  w.put(static_cast<int32_t>(r.camera.height));
+  const FeatureRecord& f = r.features;
+  w.put(static_cast<uint32_t>(f.size()));
+  for (size_t i = 0; i < f.size(); ++i) {
+    const cv::KeyPoint& kp = f.keypoints[i];
+    for (float v : {kp.pt.x, kp.pt.y, kp.size, kp.angle, kp.response}) w.put(v);
+    w.put(static_cast<int32_t>(kp.octave));
+    w.put(f.depth[i]);
+    w.put_bytes(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32);
+  }
+  w.put(static_cast<uint32_t>(r.observations.size()));
+  for (const auto& [kp, point] : r.observations) {
+    w.put(kp);
+    w.put(point);
+  }
+  w.put(static_cast<uint32_t>(r.new_points.size()));
+  for (const NewPointRecord& p : r.new_points) {
+    w.put(p.id);
+    w.put(p.kp_index);
+    for (int k = 0; k < 3; ++k) w.put(p.position[k]);
+  }
+  w.put(r.parent_id);
+  w.put(static_cast<uint32_t>(r.covisibility.size()));
+  for (const auto& [id, weight] : r.covisibility) {
+    w.put(id);
+    w.put(weight);
+  }
+  w.put(static_cast<uint32_t>(loops.size()));
+  for (uint32_t id : loops) w.put(id);
+}
+
+KeyFrameRecord get_keyframe(ByteReader& in, std::vector<uint32_t>& loops) {
+  KeyFrameRecord r;
+  r.seq = in.get<uint64_t>("KeyFrame seq");
+  r.id = in.get<uint32_t>("KeyFrame id");
+  r.frame_id = in.get<uint32_t>("frame id");
+  r.stamp = in.get<double>("stamp");
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) r.T_wc.matrix()(row, col) = in.get<double>("pose");
+  r.camera.name = in.get_string(256, "camera name");
+  r.camera.fx = in.get<double>("fx");
+  r.camera.fy = in.get<double>("fy");
+  r.camera.cx = in.get<double>("cx");
+  r.camera.cy = in.get<double>("cy");
+  r.camera.bf = in.get<double>("bf");
+  r.camera.th_depth = in.get<float>("th_depth");
+  r.camera.width = in.get<int32_t>("width");
+  r.camera.height = in.get<int32_t>("height");
+  const size_t n = in.count(kFeatureBytes, "keypoint");
+  FeatureRecord& f = r.features;
+  f.keypoints.resize(n);
+  f.depth.resize(n);
+  f.descriptors.create(static_cast<int>(n), 32, CV_8U);
+  for (size_t i = 0; i < n; ++i) {
+    cv::KeyPoint& kp = f.keypoints[i];
+    kp.pt.x = in.get<float>("keypoint");
+    kp.pt.y = in.get<float>("keypoint");
+    kp.size = in.get<float>("keypoint");
+    kp.angle = in.get<float>("keypoint");
+    kp.response = in.get<float>("keypoint");
+    kp.octave = in.get<int32_t>("octave");
+    f.depth[i] = in.get<float>("depth");
+    std::memcpy(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), in.take(32, "descriptor"), 32);
+  }
+  r.observations.resize(in.count(8, "observation"));
+  for (auto& [kp, point] : r.observations) {
+    kp = in.get<uint32_t>("observation");
+    point = in.get<uint32_t>("observation");
+  }
+  r.new_points.resize(in.count(20, "new point"));
+  for (NewPointRecord& p : r.new_points) {
+    p.id = in.get<uint32_t>("new point");
+    p.kp_index = in.get<uint32_t>("new point");
+    for (int k = 0; k < 3; ++k) p.position[k] = in.get<float>("new point");
+  }
+  r.parent_id = in.get<uint32_t>("parent id");
+  r.covisibility.resize(in.count(8, "covisibility link"));
+  for (auto& [id, weight] : r.covisibility) {
+    id = in.get<uint32_t>("covisibility link");
+    weight = in.get<uint32_t>("covisibility link");
+  }
+  loops.resize(in.count(4, "loop edge"));
+  for (uint32_t& id : loops) id = in.get<uint32_t>("loop edge");
+  return r;
+}
+
+void put_point(ByteWriter& w, const MapPointRecord& p) {
+  w.put(p.id);
+  for (int k = 0; k < 3; ++k) w.put(p.position[k]);
+  w.put_bytes(p.descriptor.data(), 32);
+  for (int k = 0; k < 3; ++k) w.put(p.normal[k]);
+  w.put(p.min_distance);
+  w.put(p.max_distance);
+  w.put(p.ref_keyframe_id);
+}
+
+MapPointRecord get_point(ByteReader& in) {
+  MapPointRecord p;
+  p.id = in.get<uint32_t>("point id");
+  for (int k = 0; k < 3; ++k) p.position[k] = in.get<float>("point position");
+  std::memcpy(p.descriptor.data(), in.take(32, "point descriptor"), 32);
+  for (int k = 0; k < 3; ++k) p.normal[k] = in.get<float>("point normal");
+  p.min_distance = in.get<float>("point distance");
+  p.max_distance = in.get<float>("point distance");
+  p.ref_keyframe_id = in.get<uint32_t>("point reference");
+  return p;
+}
+
+[[noreturn]] void fail(const std::string& origin, const std::string& what) {
+  throw std::runtime_error("map file '" + origin + "': " + what);
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_map_file(const MapSnapshot& s) {
+  ByteWriter w;
+  w.put_bytes(kMagic, sizeof(kMagic));
+  w.put(kMapFileVersion);
+  w.put(uint32_t{0});
+  w.put(uint64_t{0});  // payload size and checksum, filled in below
+  w.put(uint64_t{0});
+  w.put(s.next_keyframe_id);
+  w.put(s.next_map_point_id);
+  w.put(s.last_keyframe_seq);
+  w.put(static_cast<uint32_t>(s.content.keyframes.size()));
+  static const std::vector<uint32_t> kNoLoops;
+  for (const KeyFrameRecord& kf : s.content.keyframes) {
+    const auto it = s.loop_edges.find(kf.id);
+    put_keyframe(w, kf, it == s.loop_edges.end() ? kNoLoops : it->second);
+  }
+  w.put(static_cast<uint32_t>(s.content.points.size()));
+  for (const MapPointRecord& p : s.content.points) put_point(w, p);
+  std::vector<uint8_t>& bytes = w.bytes();
+  const uint64_t payload = bytes.size() - kHeaderBytes;
+  const uint64_t checksum = fnv1a64(bytes.data() + kHeaderBytes, payload);
+  std::memcpy(bytes.data() + 16, &payload, 8);
+  std::memcpy(bytes.data() + 24, &checksum, 8);
+  return std::move(bytes);
+}
+
+MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string& origin) {
+  if (size < kHeaderBytes) fail(origin, "truncated: " + std::to_string(size) + " bytes, shorter than the header");
+  if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) fail(origin, "not an edge_slam map file (bad magic)");
+  ByteReader header(data + 8, kHeaderBytes - 8);
+  const uint32_t version = header.get<uint32_t>("version");
+  if (version != kMapFileVersion)
+    fail(origin, "unsupported map file version " + std::to_string(version) + " (expected " +
+                     std::to_string(kMapFileVersion) + ")");
+  header.get<uint32_t>("reserved");
+  const uint64_t payload = header.get<uint64_t>("payload size");
+  const uint64_t checksum = header.get<uint64_t>("checksum");
+  if (payload != size - kHeaderBytes)
+    fail(origin, (payload > size - kHeaderBytes ? "truncated: " : "trailing data: ") + std::to_string(size) +
+                     " bytes, the header promises " + std::to_string(kHeaderBytes + payload));
+  if (fnv1a64(data + kHeaderBytes, payload) != checksum) fail(origin, "checksum mismatch (the file is corrupt)");
+
+  MapSnapshot s;
+  try {
+    ByteReader in(data + kHeaderBytes, payload);
+    s.next_keyframe_id = in.get<uint32_t>("next KeyFrame id");
+    s.next_map_point_id = in.get<uint32_t>("next map point id");
+    s.last_keyframe_seq = in.get<uint64_t>("last KeyFrame seq");
+    s.content.keyframes.resize(in.count(kMinKeyFrameBytes, "KeyFrame"));
+    for (KeyFrameRecord& kf : s.content.keyframes) {
+      std::vector<uint32_t> loops;
+      kf = get_keyframe(in, loops);
+      if (!loops.empty()) s.loop_edges[kf.id] = std::move(loops);
+    }
+    s.content.points.resize(in.count(kPointBytes, "map point"));
+    for (MapPointRecord& p : s.content.points) p = get_point(in);
+    if (in.remaining() != 0) throw std::runtime_error(std::to_string(in.remaining()) + " unread payload bytes");
+  } catch (const std::runtime_error& e) {
+    fail(origin, e.what());
+  }
+  if (std::string problem = map_update_record_problem(s.content); !problem.empty()) fail(origin, problem);
+  return s;
+}
+
+void write_map_file(const MapSnapshot& s, const std::string& path) {
+  const std::vector<uint8_t> bytes = encode_map_file(s);
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail(path, std::string("cannot create ") + tmp + ": " + std::strerror(errno));
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      std::remove(tmp.c_str());
+      fail(path, "write error: " + why);
+    }
+    done += static_cast<size_t>(n);
+  }
+  // Data on disk before the rename makes it visible: a crash leaves the old or the new file.
+  const bool synced = ::fsync(fd) == 0;
+  const bool closed = ::close(fd) == 0;
+  if (!synced || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(tmp.c_str());
+    fail(path, "cannot complete the write: " + why);
+  }
+}
+
+MapSnapshot read_map_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) fail(path, "cannot open for reading");
+  const std::streamoff size = in.tellg();
+  if (size < 0) fail(path, "cannot determine the file size");
+  std::vector<uint8_t> bytes(static_cast<size_t>(size));
+  in.seekg(0);
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) fail(path, "read error");
+  return decode_map_file(bytes.data(), bytes.size(), path);
+}
+
+}  // namespace edge_slam
