@@ -5,7 +5,7 @@
 #   make test                        setup, then every unit + integration test; ends "N passed, N failed"
 #   make test-split                  the split acceptance rostest on the embedded bag (see test/rostest_split)
 #   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
-#   make bench DATASET=<TUM folder or bag> OUT=<dir>
+#   make bench [DATASET=<TUM folder or bag> ...] [OUT=<dir>]   benchmark suite -> OUT/report.md, bench.json
 #   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
 #   make test-asan                   ASan+UBSan build: every unit test + one monolithic run
 SHELL := /bin/bash
@@ -31,8 +31,11 @@ test-split:
 	bash scripts/build.sh && export PATH=/usr/bin:$$PATH && source .ws/devel/setup.bash && rostest test/rostest_split/split_pipeline.test repo:=$(CURDIR)
 eval:
 	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
+# bench: DATASET/OUT only when given (the defaults above are for eval); BENCH_ARGS e.g. "--only monolithic,split".
 bench:
-	@echo "make bench: not yet available (benchmark suite: issue 'Benchmark suite')" >&2; exit 2
+	DATASET="$(if $(filter command line environment,$(origin DATASET)),$(DATASET))" \
+	OUT="$(if $(filter command line environment,$(origin OUT)),$(OUT))" BENCH_ARGS="$(BENCH_ARGS)" \
+	bash scripts/bench/bench.sh
 .PHONY: fuzz test-asan
 fuzz:
 	FUZZ_SECONDS="$(or $(FUZZ_SECONDS),60)" bash scripts/fuzz.sh

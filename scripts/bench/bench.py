@@ -1,0 +1,385 @@
+#!/usr/bin/python3
+"""Benchmark suite orchestrator: `make bench DATASET=<TUM folder or bag> OUT=<dir>`.
+
+Runs, on each dataset and in one go so that ratios compare like with like:
+  monolithic       scripts/eval.sh MODE=monolithic (edge_slam_run: one process, 3 threads)
+  split            scripts/eval.sh MODE=split (mobile + edge nodelet managers, rosbag play)
+  split_controller split with the map-update controller disabling updates around the
+                   sequence's fastest turn (found in its ground truth; planner_example)
+  *_blank          both modes on a copy with 1 s of black colour frames (relocalization)
+and once the wire micro-benchmark (wire_benchmark: KeyFrame / update size, (de)serialization,
+Local-Map rebuild). Each run gets a /proc CPU+RSS sampler (20 Hz) on the mobile and edge
+processes and, in split mode, a topic-size recorder. Then report.py (venv: evo, matplotlib)
+turns OUT/runs/ into OUT/report.md, OUT/bench.json and PNGs.
+
+bench.py --out <dir> [--dataset D ...] [--only monolithic,split,...] [--report-only]
+Every run's console output goes to OUT/runs/<dataset>/<variant>/log.txt; the terminal shows
+one progress line (phase k/N, what runs, seconds elapsed / expected).
+"""
+import argparse
+import json
+import os
+import platform
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, HERE)
+from fast_turn import fast_turn  # noqa: E402
+
+DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
+VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth", "long"]
+LONG_DATASET = "bags/synthetic_room_long"  # edge_slam_synth --long (see bags/README.md); run only if present
+# Paper Table 5: upload / download Mbit/s, plus 5 ms one-way delay.
+BANDWIDTH_LEVELS = {"high": (51, 67), "medium": (20, 20), "low": (15, 10)}
+SAMPLER_ROLES = {"monolithic": ["mobile=edge_slam_run"],
+                 "split": ["mobile=__name:=mobile_manager", "edge=__name:=edge_manager"]}
+MOBILE_NS = "/edge_slam/mobile"
+RUNNING = []  # process groups of the phase in progress: stopped on Ctrl-C (they run in their own sessions)
+
+
+class Progress:
+    """One terminal line, rewritten in place: which phase runs and how far it is."""
+
+    def __init__(self, total):
+        self.total, self.index, self.tty = total, 0, sys.stderr.isatty()
+
+    def start(self, label):
+        self.index += 1
+        self.label, self.t0 = label, time.monotonic()
+        self.show("")
+
+    def show(self, detail):
+        line = f"[bench {self.index}/{self.total}] {self.label} {detail}"
+        if self.tty:
+            sys.stderr.write("\r\033[K" + line)
+        else:
+            now = time.monotonic()  # logs: one line every 15 s is enough
+            if detail == "" or now - getattr(self, "last", 0) >= 15:
+                sys.stderr.write(line + "\n")
+                self.last = now
+        sys.stderr.flush()
+
+    def done(self, result):
+        self.last = 0  # the outcome line is always printed
+        self.show(f"{result} ({time.monotonic() - self.t0:.0f} s)")
+        if self.tty:
+            sys.stderr.write("\n")
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def sequence_seconds(folder):
+    stamps = [float(l.split()[0]) for l in open(os.path.join(folder, "rgb.txt")) if l.strip() and l[0] != "#"]
+    return stamps[-1] - stamps[0]
+
+
+def default_datasets():
+    """DEFAULT_DATASETS that exist, relative to this checkout or, in a git worktree, to the main
+    checkout (../shared is next to the main clone, not next to the worktree)."""
+    common = subprocess.run(["git", "rev-parse", "--path-format=absolute", "--git-common-dir"], cwd=ROOT,
+                            capture_output=True, text=True).stdout.strip()
+    bases = [ROOT] + ([os.path.dirname(common)] if common.endswith("/.git") else [])
+    found = []
+    for d in DEFAULT_DATASETS:
+        path = next((os.path.join(b, d) for b in bases if os.path.isdir(os.path.join(b, d))), None)
+        if path:
+            found.append(resolve_dataset(path))
+    return found
+
+
+def resolve_dataset(path):
+    """A TUM folder; a bag is accepted when the TUM folder it was made from sits next to it."""
+    path = os.path.abspath(os.path.join(ROOT, path))
+    if path.endswith(".bag"):
+        folder = path[:-4]
+        if not os.path.isfile(os.path.join(folder, "rgb.txt")):
+            sys.exit(f"bench: {path}: the benchmark needs the TUM folder the bag was made from ({folder}): "
+                     "ground truth and the monolithic runner read it")
+        path = folder
+    if not os.path.isfile(os.path.join(path, "rgb.txt")):
+        sys.exit(f"bench: {path} is not a TUM folder (no rgb.txt)")
+    return path
+
+
+def wait_for_service(name, proc, timeout):
+    """True once `name` is registered with the master (and `proc` still runs)."""
+    import xmlrpc.client
+    master = xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"])
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and proc.poll() is None:
+        try:
+            code, _, _ = master.lookupService("/bench", name)
+            if code == 1:
+                return True
+        except OSError:
+            pass
+        time.sleep(0.2)
+    return False
+
+
+def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s):
+    mode = "split" if "split" in variant else "monolithic"
+    run_dir = os.path.join(out_dir, "runs", os.path.basename(dataset), variant)
+    os.makedirs(run_dir, exist_ok=True)
+    data = blank_dir if variant.endswith("_blank") else dataset
+    env = dict(os.environ, DATASET=data, MODE=mode, OUT=run_dir)  # eval.sh picks the fr1 calibration itself
+    log = open(os.path.join(run_dir, "log.txt"), "w")
+    progress.start(f"{os.path.basename(dataset)} {variant}:")
+    t0 = time.time()
+    proc = subprocess.Popen(["bash", "scripts/eval.sh"], cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True)
+    RUNNING[:] = [proc]
+    helpers = [subprocess.Popen(
+        [sys.executable, os.path.join(HERE, "proc_sampler.py"), "--root-pid", str(proc.pid),
+         "--out", os.path.join(run_dir, "proc.csv"), "--hz", "20"]
+        + [a for r in SAMPLER_ROLES[mode] for a in ("--role", r)], stdout=log, stderr=subprocess.STDOUT)]
+    if mode == "split":
+        helpers.append(subprocess.Popen([sys.executable, os.path.join(HERE, "net_recorder.py"),
+                                         "--out", os.path.join(run_dir, "net.csv")],
+                                        stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
+    RUNNING.extend(helpers)
+    if variant == "split_controller":
+        if wait_for_service(MOBILE_NS + "/set_map_updates", proc, 120):
+            windows = f"[[{turn[0]:.3f},{turn[1]:.3f}]]"
+            helpers.append(subprocess.Popen(
+                ["rosrun", "edge_slam_mobile", "planner_example", f"_turn_windows:={windows}",
+                 f"_mobile_ns:={MOBILE_NS}", "_lead_time:=1.0", "_trail_time:=0.5"],
+                stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
+        else:
+            log.write("bench: the mobile's set_map_updates service never appeared: no controller\n")
+    limit = 3 * expected_s + 180
+    while proc.poll() is None:
+        elapsed = time.time() - t0
+        progress.show(f"{elapsed:4.0f} s / ~{expected_s:.0f} s")
+        if elapsed > limit:
+            log.write(f"bench: run exceeded {limit:.0f} s, stopped\n")
+            os.killpg(proc.pid, signal.SIGINT)
+            try:
+                proc.wait(20)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+            break
+        time.sleep(1.0)
+    rc = proc.wait()
+    for h in helpers[1:]:  # recorder and controller: the sampler ends with the run by itself
+        if h.poll() is None:
+            os.killpg(h.pid, signal.SIGINT)
+    for h in helpers:
+        try:
+            h.wait(15)
+        except subprocess.TimeoutExpired:
+            h.kill()
+    info = {"dataset": dataset, "data": data, "variant": variant, "mode": mode, "exit_code": rc,
+            "wall_s": round(time.time() - t0, 1), "expected_s": expected_s}
+    if variant == "split_controller":
+        info["controller_window"] = turn[:2]
+    json.dump(info, open(os.path.join(run_dir, "run.json"), "w"), indent=2)
+    progress.done("ok" if rc == 0 else f"FAILED (exit {rc}, see {os.path.relpath(run_dir, ROOT)}/log.txt)")
+    return info
+
+
+def run_bandwidth_levels(progress, out_dir, dataset, bag):
+    """Split over a shaped veth link in two network namespaces, one run per level (root only)."""
+    results = []
+    for level, (up, down) in BANDWIDTH_LEVELS.items():
+        run_dir = os.path.join(out_dir, "runs", os.path.basename(dataset), f"bandwidth_{level}")
+        os.makedirs(run_dir, exist_ok=True)
+        progress.start(f"{os.path.basename(dataset)} bandwidth {level} (up {up} / down {down} Mbit/s):")
+        t0 = time.time()
+        with open(os.path.join(run_dir, "runner.txt"), "w") as log:
+            proc = subprocess.Popen([sys.executable, os.path.join(HERE, "netns_run.py"), "--bag", bag,
+                                     "--up", str(up), "--down", str(down), "--out", run_dir],
+                                    cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+            expected = sequence_seconds(dataset) + 25
+            while proc.poll() is None:
+                progress.show(f"{time.time() - t0:4.0f} s / ~{expected:.0f} s")
+                if time.time() - t0 > 3 * expected + 120:
+                    proc.terminate()  # netns_run cleans up its namespaces on SIGTERM
+                time.sleep(1.0)
+        results.append({"level": level, "up_mbps": up, "down_mbps": down, "exit_code": proc.returncode,
+                        "wall_s": round(time.time() - t0, 1)})
+        progress.done("ok" if proc.returncode == 0 else f"FAILED (exit {proc.returncode}, see runner.txt)")
+    return results
+
+
+def run_wire_benchmark(progress, out_dir, dataset):
+    progress.start(f"wire micro-benchmark ({os.path.basename(dataset)}, 300 frames):")
+    path = os.path.join(out_dir, "wire.json")
+    tool = os.path.join(ROOT, ".ws/devel/lib/edge_slam_common/wire_benchmark")
+    with open(os.path.join(out_dir, "wire_log.txt"), "w") as log:
+        proc = subprocess.Popen([tool, "--dataset", dataset, "--frames", "300", "--out", path], cwd=ROOT,
+                                stdout=log, stderr=subprocess.STDOUT)
+        t0 = time.time()
+        while proc.poll() is None:
+            progress.show(f"{time.time() - t0:4.0f} s / ~60 s")
+            time.sleep(1.0)
+    progress.done("ok" if proc.returncode == 0 else f"FAILED (exit {proc.returncode}, see wire_log.txt)")
+
+
+def read_manifest(out_dir):
+    try:
+        return json.load(open(os.path.join(out_dir, "manifest.json")))
+    except (OSError, ValueError):
+        return None
+
+
+def save_manifest(out_dir, manifest, previous):
+    """Writes the manifest; with --add, merged into the previous one: a dataset run again gets
+    its variants replaced one by one, everything else of the earlier bench stays."""
+    merged = manifest
+    if previous:
+        merged = dict(previous)
+        merged.setdefault("added", []).append({k: manifest[k] for k in ("machine", "bench_wall_s") if k in manifest})
+        by_name = {d["name"]: d for d in previous.get("datasets", [])}
+        for entry in manifest["datasets"]:
+            old = by_name.get(entry["name"])
+            if old is None:
+                merged["datasets"].append(entry)
+                continue
+            runs = {r["variant"]: r for r in old.get("runs", [])}
+            runs.update({r["variant"]: r for r in entry["runs"]})
+            old.update({k: v for k, v in entry.items() if k != "runs"})
+            old["runs"] = list(runs.values())
+        for key in ("long_run", "long_run_skipped"):
+            if key in manifest:
+                merged[key] = manifest[key]
+    json.dump(merged, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
+    return merged
+
+
+def machine_info():
+    cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
+    mem_kb = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal"))
+    git = lambda *a: subprocess.run(["git", *a], cwd=ROOT, capture_output=True, text=True).stdout.strip()
+    return {"date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "nproc": os.cpu_count(), "cpu_model": cpu,
+            "ram_gib": round(mem_kb / 1048576, 1), "kernel": platform.release(),
+            "commit": git("rev-parse", "HEAD"), "commit_subject": git("log", "-1", "--format=%s"),
+            "dirty": bool(git("status", "--porcelain", "--untracked-files=no")),
+            "load_average_at_start": os.getloadavg()}
+
+
+def stop_running():
+    for p in RUNNING:
+        if p.poll() is None:
+            try:
+                os.killpg(p.pid, signal.SIGINT)
+                p.wait(20)
+            except (ProcessLookupError, subprocess.TimeoutExpired):
+                os.killpg(p.pid, signal.SIGKILL)
+
+
+def main():
+    try:
+        run()
+    except KeyboardInterrupt:
+        sys.stderr.write("\nbench: interrupted; stopping the running phase\n")
+        stop_running()
+        sys.exit(130)
+
+
+def run():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--dataset", action="append", default=[])
+    # The long run (10+ min per mode, and a bag of the long sequence for split) is opt-in, so the
+    # default bench stays within its 45-minute budget: BENCH_ARGS="--add --only long".
+    ap.add_argument("--only", default=",".join(v for v in VARIANTS if v != "long"),
+                    help=f"comma-separated variants to run, of {','.join(VARIANTS)} (default: all but long)")
+    ap.add_argument("--no-wire", action="store_true", help="skip the wire micro-benchmark")
+    ap.add_argument("--report-only", action="store_true", help="rebuild report.md from OUT/runs only")
+    ap.add_argument("--long-modes", default="monolithic,split",
+                    help="modes of the long run (split needs the long bag, converted on first use)")
+    ap.add_argument("--add", action="store_true",
+                    help="keep what OUT already holds and add these runs (e.g. --only long after a full bench)")
+    args = ap.parse_args()
+    out_dir = os.path.abspath(args.out)
+    os.makedirs(out_dir, exist_ok=True)
+    venv_python = os.path.join(ROOT, ".venv/bin/python")
+    report = [venv_python, os.path.join(HERE, "report.py"), "--out", out_dir]
+    if args.report_only:
+        sys.exit(subprocess.call(report))
+
+    datasets = [resolve_dataset(d) for d in args.dataset] if args.dataset else default_datasets()
+    variants = [v for v in args.only.split(",") if v]
+    unknown = set(variants) - set(VARIANTS)
+    if unknown:
+        sys.exit(f"bench: unknown variant(s) {sorted(unknown)}; known: {VARIANTS}")
+    # A private ROS master port: other people's roscore on this machine must not see our runs.
+    # eval_split.sh starts its master on EVAL_ROS_PORT; the recorder and controller follow it.
+    port = free_port()
+    os.environ["EVAL_ROS_PORT"] = str(port)
+    os.environ["ROS_MASTER_URI"] = f"http://localhost:{port}"
+    os.environ.setdefault("ROS_HOME", os.path.join(out_dir, "ros_home"))
+
+    manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}
+    previous = read_manifest(out_dir) if args.add else None
+    with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
+    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long")])
+                                         + (1 if any("blank" in v for v in variants) else 0))
+                        + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
+                        + (2 if "long" in variants and os.path.isdir(os.path.join(ROOT, LONG_DATASET)) else 0)
+                        + (0 if args.no_wire else 1) + 1)
+    t_start = time.time()
+    for dataset in datasets:
+        name = os.path.basename(dataset)
+        seconds = sequence_seconds(dataset)
+        turn = fast_turn(os.path.join(dataset, "groundtruth.txt"))
+        first = float(next(l for l in open(os.path.join(dataset, "rgb.txt")) if l.strip() and l[0] != "#").split()[0])
+        entry = {"path": dataset, "name": name, "seconds": seconds, "fast_turn": turn[:2],
+                 "fast_turn_from_start": [turn[0] - first, turn[1] - first],
+                 "fast_turn_peak_deg_s": turn[2], "runs": []}
+        blank_dir = os.path.join(out_dir, "data", name + "_blank")
+        if any(v.endswith("_blank") for v in variants):
+            progress.start(f"{name}: blank-frame copy")
+            made = subprocess.run([sys.executable, os.path.join(HERE, "blank_frames.py"), dataset, blank_dir],
+                                  capture_output=True, text=True)
+            entry["blank"] = made.stdout.strip() or made.stderr.strip()
+            progress.done(entry["blank"])
+        for variant in variants:
+            if variant == "long":
+                continue  # once, after the datasets
+            if variant == "bandwidth":
+                bag = dataset.rstrip("/") + ".bag"
+                if os.geteuid() != 0 or not os.path.isfile(bag):
+                    entry["bandwidth_skipped"] = "needs root" if os.geteuid() != 0 else f"no bag {bag}"
+                else:
+                    entry["bandwidth"] = run_bandwidth_levels(progress, out_dir, dataset, bag)
+                continue
+            expected = seconds + (45 if variant.startswith("split") else 25)
+            entry["runs"].append(run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected))
+        manifest["datasets"].append(entry)
+        save_manifest(out_dir, manifest, previous)
+    long_dir = os.path.join(ROOT, LONG_DATASET)
+    if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
+        seconds = sequence_seconds(long_dir)
+        entry = {"path": long_dir, "name": os.path.basename(long_dir), "seconds": seconds, "runs": []}
+        for variant in args.long_modes.split(","):
+            entry["runs"].append(run_variant(progress, out_dir, long_dir, f"long_{variant}", None, None,
+                                             seconds + 40))
+        manifest["long_run"] = entry
+    elif "long" in variants:
+        manifest["long_run_skipped"] = f"{LONG_DATASET} not found (edge_slam_synth --long)"
+    if not args.no_wire:
+        synthetic = os.path.join(ROOT, "bags/synthetic_room")
+        run_wire_benchmark(progress, out_dir, synthetic if os.path.isdir(synthetic) else datasets[0])
+    manifest["bench_wall_s"] = round(time.time() - t_start, 1)
+    manifest = save_manifest(out_dir, manifest, previous)
+    progress.start("report:")
+    rc = subprocess.call(report)
+    progress.done("ok" if rc == 0 else f"FAILED (exit {rc})")
+    if rc == 0:
+        print(f"bench: wrote {out_dir}/report.md and bench.json in {(time.time() - t_start) / 60:.1f} min")
+    sys.exit(rc)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,89 @@
+"""Readers for what one benchmark run leaves in OUT/runs/<dataset>/<variant>/ (venv python).
+
+Every reader returns None (or an empty result) when its file is missing, so the report can say
+"not measured" for that part instead of failing: a run that crashed still yields the rest.
+"""
+import csv
+import json
+import os
+
+import numpy as np
+
+
+def read_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def read_csv(path):
+    """List of row dicts (values as strings), or None when absent."""
+    try:
+        with open(path, newline="") as f:
+            return list(csv.DictReader(row for row in f if not row.startswith("#")))
+    except OSError:
+        return None
+
+
+def column(rows, name, cast=float):
+    out = []
+    for r in rows or []:
+        try:
+            out.append(cast(r[name]))
+        except (KeyError, TypeError, ValueError):
+            pass
+    return np.array(out)
+
+
+def proc_series(run_dir):
+    """role -> dict(t [s since the first sample of the run], cpu_s cumulative, rss_mb)."""
+    rows = read_csv(os.path.join(run_dir, "proc.csv"))
+    if not rows:
+        return {}
+    t0 = float(rows[0]["t"])
+    series = {}
+    for role in sorted({r["role"] for r in rows}):
+        mine = [r for r in rows if r["role"] == role]
+        series[role] = {"t": column(mine, "t") - t0, "cpu_s": column(mine, "cpu_s"),
+                        "rss_mb": column(mine, "rss_kb") / 1024.0}
+    return series
+
+
+def cpu_percent(t, cpu_s, window=1.0):
+    """CPU % of one process over consecutive windows (cumulative CPU-seconds differenced).
+    /proc counts in 10 ms ticks, so a 50 ms sample alone would read in 20 % steps."""
+    if len(t) < 2:
+        return np.array([]), np.array([])
+    edges = np.arange(t[0], t[-1] + 1e-9, window)
+    if len(edges) < 2:
+        return np.array([]), np.array([])
+    cpu_at = np.interp(edges, t, cpu_s)
+    return 0.5 * (edges[1:] + edges[:-1]), 100.0 * np.diff(cpu_at) / np.diff(edges)
+
+
+def net_rows(run_dir):
+    rows = read_csv(os.path.join(run_dir, "net.csv"))
+    if rows is None:
+        return None
+    return {"t": column(rows, "t"), "topic": np.array([r["topic"] for r in rows]), "bytes": column(rows, "bytes")}
+
+
+def frame_times(run_dir):
+    """Per-frame tracking latency (stamps, ms): frame_times.csv of the monolithic runner, or the
+    mobile's "frame" events in a split run's mobile_stats.csv."""
+    rows = read_csv(os.path.join(run_dir, "frame_times.csv"))
+    if rows:
+        return column(rows, "stamp"), column(rows, "tracking_ms")
+    import pipeline_stats  # here: pipeline_stats imports this module
+    return pipeline_stats.tracking_series(run_dir)
+
+
+def stats(values):
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if not len(v):
+        return None
+    return {"count": int(len(v)), "mean": float(v.mean()), "median": float(np.median(v)),
+            "p95": float(np.percentile(v, 95)), "max": float(v.max())}

@@ -1,0 +1,45 @@
+#!/usr/bin/python3
+"""Where a sequence turns fastest, from its ground truth (for the map-update controller run).
+
+fast_turn.py <groundtruth.txt>  ->  prints "start end peak_deg_per_s" (dataset stamps, seconds)
+
+The angular speed between ground-truth poses is smoothed over ~0.2 s; the window is the
+contiguous stretch around the peak where it stays above half the peak. On the synthetic
+sequence this finds the 90-degree look-away turn (t = 14.8-15.2 s after the start).
+"""
+import sys
+
+import numpy as np
+
+
+def read_groundtruth(path):
+    rows = [line.split() for line in open(path) if line.strip() and not line.startswith("#")]
+    data = np.array([[float(v) for v in r[:8]] for r in rows])
+    return data[:, 0], data[:, 4:8]  # stamps, quaternions x y z w
+
+
+def fast_turn(path):
+    t, q = read_groundtruth(path)
+    q = q / np.linalg.norm(q, axis=1, keepdims=True)
+    dot = np.abs(np.sum(q[1:] * q[:-1], axis=1)).clip(0.0, 1.0)
+    dt = np.diff(t)
+    ok = dt > 1e-6
+    speed = np.zeros(len(dt))
+    speed[ok] = np.degrees(2.0 * np.arccos(dot[ok])) / dt[ok]
+    mid = 0.5 * (t[1:] + t[:-1])
+    width = max(1, int(round(0.2 / np.median(dt[ok]))))
+    smooth = np.convolve(speed, np.ones(width) / width, mode="same")
+    peak = int(np.argmax(smooth))
+    lo = hi = peak
+    while lo > 0 and smooth[lo - 1] > 0.5 * smooth[peak]:
+        lo -= 1
+    while hi + 1 < len(smooth) and smooth[hi + 1] > 0.5 * smooth[peak]:
+        hi += 1
+    return float(mid[lo]), float(mid[hi]), float(smooth[peak])
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    start, end, peak = fast_turn(sys.argv[1])
+    print(f"{start:.3f} {end:.3f} {peak:.1f}")

@@ -1,0 +1,56 @@
+#!/usr/bin/python3
+"""Bytes on the split's topics over time (benchmark suite, network section).
+
+net_recorder.py --out net.csv [--ns /edge_slam] [--topics keyframes frames map_updates]
+
+Subscribes to each topic with rospy.AnyMsg, so nothing is deserialised: the size logged is the
+serialized message as it crossed the wire (without the 4-byte TCPROS length prefix). Waits for
+the ROS master to appear, so it can be started before roslaunch; stops on SIGINT/SIGTERM.
+Rows: wall time, topic, bytes.
+"""
+import argparse
+import signal
+import sys
+import time
+
+import rosgraph
+import rospy
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--ns", default="/edge_slam")
+    ap.add_argument("--topics", nargs="+", default=["keyframes", "frames", "map_updates"])
+    ap.add_argument("--master-timeout", type=float, default=120.0)
+    args = ap.parse_args(rospy.myargv()[1:])
+
+    stop = []
+    signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
+    signal.signal(signal.SIGINT, lambda *_: stop.append(1))
+    deadline = time.monotonic() + args.master_timeout
+    while not rosgraph.is_master_online():
+        if stop or time.monotonic() > deadline:
+            sys.exit("net_recorder: no ROS master")
+        time.sleep(0.2)
+
+    out = open(args.out, "w", buffering=1)
+    out.write("t,topic,bytes\n")
+
+    def record(topic):
+        def callback(msg):
+            out.write(f"{time.time():.3f},{topic},{len(msg._buff)}\n")
+        return callback
+
+    rospy.init_node("bench_net_recorder", anonymous=True, disable_signals=True)
+    for topic in args.topics:
+        rospy.Subscriber(f"{args.ns.rstrip('/')}/{topic}", rospy.AnyMsg, record(topic), queue_size=1000,
+                         buff_size=64 << 20)
+    while not stop and rosgraph.is_master_online():
+        time.sleep(0.2)
+    out.flush()
+    rospy.signal_shutdown("done")
+
+
+if __name__ == "__main__":
+    main()

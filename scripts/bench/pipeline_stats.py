@@ -1,0 +1,131 @@
+"""Map-update pipeline figures (paper Table 4) from a split run's mobile_stats.csv / edge_stats.csv.
+
+Both CSVs hold one row per event, columns
+  wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail
+(-1 = not applicable). Events used here:
+  mobile  frame (duration = tracking ms), keyframe_sent, frame_sent,
+          update (latency = edge publish -> received, duration = Local-Map rebuild when accepted,
+          detail = "<kind> <decision>")
+  edge    keyframe (latency = mobile creation -> received, detail = verdict), frame,
+          update_sent (duration = construction, from build start to publish)
+"""
+import os
+
+import numpy as np
+
+from bench_data import read_csv, stats
+
+
+def _rows(run_dir, side):
+    return read_csv(os.path.join(run_dir, f"{side}_stats.csv")) or []
+
+
+def _values(rows, col, keep_negative=False):
+    out = []
+    for r in rows:
+        try:
+            v = float(r[col])
+        except (KeyError, TypeError, ValueError):
+            continue
+        if keep_negative or v >= 0:
+            out.append(v)
+    return np.array(out)
+
+
+def summarize(run_dir):
+    """Dict of Table-4 figures (each a stats dict or a count); empty when no CSV exists."""
+    mobile, edge = _rows(run_dir, "mobile"), _rows(run_dir, "edge")
+    if not mobile and not edge:
+        return {}
+    ev = lambda rows, name: [r for r in rows if r.get("event") == name]  # noqa: E731
+    updates = ev(mobile, "update")
+    accepted = [r for r in updates if _values([r], "duration_ms").size]
+    # The rebuild target is about the periodic 6-KeyFrame update; relocalization ones are larger.
+    periodic = [r for r in accepted if (r.get("detail") or "").startswith("periodic")]
+    decisions = {}
+    for r in updates:
+        parts = (r.get("detail") or "").split()
+        key = " ".join(parts) if parts else "?"
+        decisions[key] = decisions.get(key, 0) + 1
+    sent = ev(edge, "update_sent")
+    # Intervals and construction are the periodic module's; relocalization answers come on demand.
+    sent_periodic = [r for r in sent if (r.get("detail") or "").startswith("periodic")]
+    kf_edge = ev(edge, "keyframe")
+    verdicts = {}
+    for r in kf_edge:
+        verdicts[r.get("detail") or "?"] = verdicts.get(r.get("detail") or "?", 0) + 1
+    return {
+        "keyframe_transmit_ms": stats(_values(kf_edge, "latency_ms")),
+        "update_construction_ms": stats(_values(sent_periodic, "duration_ms")),
+        "update_publish_interval_s": stats(np.diff(np.sort(_values(sent_periodic, "wall_time")))),
+        "relocalization_update_construction_ms": stats(_values([r for r in sent if r not in sent_periodic],
+                                                               "duration_ms")),
+        "update_delivery_ms": stats(_values(updates, "latency_ms")),
+        "update_acceptance_interval_s": stats(np.diff(np.sort(_values(periodic, "wall_time")))),
+        "local_map_rebuild_ms": stats(_values(periodic, "duration_ms")),
+        "update_bytes": stats(_values(sent_periodic, "bytes")),
+        "relocalization_update_bytes": stats(_values([r for r in sent if r not in sent_periodic], "bytes")),
+        "keyframe_bytes": stats(_values(ev(mobile, "keyframe_sent"), "bytes")),
+        "frame_bytes": stats(_values(ev(mobile, "frame_sent"), "bytes")),
+        "keyframes_sent": len(ev(mobile, "keyframe_sent")),
+        "keyframes_received_by_edge": len(kf_edge),
+        "edge_keyframe_verdicts": verdicts,
+        "updates_sent": len(sent),
+        "updates_received": len(updates),
+        "updates_accepted": len(accepted),
+        "update_decisions": decisions,
+        "frames_processed": len(ev(mobile, "frame")),
+        "frames_tracked": sum(1 for r in ev(mobile, "frame") if r.get("detail") == "OK"),
+        "frames_lost": sum(1 for r in ev(mobile, "frame") if r.get("detail") == "LOST"),
+        "local_map_keyframes_max": int(_values(ev(mobile, "frame"), "map_keyframes").max())
+        if _values(ev(mobile, "frame"), "map_keyframes").size else None,
+    }
+
+
+def tracking_series(run_dir):
+    """(data stamps, tracking ms) of every frame the mobile tracked in a split run."""
+    frames = [r for r in _rows(run_dir, "mobile") if r.get("event") == "frame"]
+    t, ms = _values(frames, "data_time", True), _values(frames, "duration_ms", True)
+    return (t, ms) if len(t) and len(t) == len(ms) else (None, None)
+
+
+TABLE = [("KeyFrame transmit latency (mobile creation -> edge received)", "keyframe_transmit_ms", "ms"),
+         ("periodic update construction on the edge", "update_construction_ms", "ms"),
+         ("periodic update publish interval", "update_publish_interval_s", "s"),
+         ("update delivery, all kinds (edge publish -> mobile received)", "update_delivery_ms", "ms"),
+         ("periodic update acceptance interval", "update_acceptance_interval_s", "s"),
+         ("Local-Map rebuild on the mobile, periodic updates (tracking paused)", "local_map_rebuild_ms", "ms"),
+         ("periodic update size", "update_bytes", "KB"),
+         ("relocalization update construction", "relocalization_update_construction_ms", "ms"),
+         ("relocalization update size", "relocalization_update_bytes", "KB"),
+         ("KeyFrame size", "keyframe_bytes", "KB")]
+
+
+def table_rows(pipe):
+    """Rows [figure, split, split + controller]."""
+    if not any(pipe.values()):
+        return []
+
+    def cell(s, unit):
+        if not s:
+            return "n/a"
+        k = 1e-3 if unit == "KB" else 1.0
+        return f"median {s['median'] * k:.3g} {unit}, p95 {s['p95'] * k:.3g} (n={s['count']})"
+
+    rows = [[label] + [cell(pipe.get(v, {}).get(key), unit) for v in ("split", "split_controller")]
+            for label, key, unit in TABLE]
+    for label, key in [("mobile frames processed / tracked / lost", ("frames_processed", "frames_tracked", "frames_lost")),
+                       ("KeyFrames sent / received by the edge", ("keyframes_sent", "keyframes_received_by_edge")),
+                       ("updates sent / received / accepted", ("updates_sent", "updates_received", "updates_accepted"))]:
+        rows.append([label] + [" / ".join(str(pipe.get(v, {}).get(k, "n/a")) for k in key)
+                               for v in ("split", "split_controller")])
+    for label, key in [("update decisions on the mobile", "update_decisions"),
+                       ("edge verdicts on KeyFrames", "edge_keyframe_verdicts")]:
+        rows.append([label] + [", ".join(f"{k}: {n}" for k, n in sorted((pipe.get(v, {}).get(key) or {}).items()))
+                               or "n/a" for v in ("split", "split_controller")])
+    return rows
+
+
+def rebuild_median(pipe_variant):
+    s = (pipe_variant or {}).get("local_map_rebuild_ms")
+    return s["median"] if s else None

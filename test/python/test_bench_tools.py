@@ -1,0 +1,141 @@
+#!/usr/bin/env python3
+"""The benchmark suite's measuring pieces (scripts/bench/) on small made-up inputs: the fast-turn
+finder, the blank-frames copy, the /proc sampler, CPU % from cumulative CPU seconds and the
+map-update pipeline figures from event CSVs."""
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import cv2
+import numpy as np
+
+BENCH = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts', 'bench'))
+sys.path.insert(0, BENCH)
+from bench_data import cpu_percent  # noqa: E402
+from fast_turn import fast_turn  # noqa: E402
+import pipeline_stats  # noqa: E402
+
+
+def yaw_quaternion(deg):
+    h = np.radians(deg) / 2
+    return [0.0, 0.0, np.sin(h), np.cos(h)]
+
+
+class FastTurnTest(unittest.TestCase):
+
+    def test_finds_the_fast_yaw_window(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, 'groundtruth.txt')
+            with open(path, 'w') as f:
+                yaw = 0.0
+                for i in range(300):  # 10 s at 30 Hz: 10 deg/s, but 200 deg/s in t = 5.0-5.5 s
+                    t = i / 30.0
+                    yaw += (200.0 if 5.0 <= t < 5.5 else 10.0) / 30.0
+                    f.write(f"{100 + t:.6f} 0 0 0 " + " ".join(f"{v:.9f}" for v in yaw_quaternion(yaw)) + "\n")
+            start, end, peak = fast_turn(path)
+        self.assertAlmostEqual(start, 105.0, delta=0.2)
+        self.assertAlmostEqual(end, 105.5, delta=0.2)
+        self.assertAlmostEqual(peak, 200.0, delta=15.0)
+
+
+class BlankFramesTest(unittest.TestCase):
+
+    def test_blanks_one_second_and_links_the_rest(self):
+        with tempfile.TemporaryDirectory() as d:
+            src, dst = os.path.join(d, 'seq'), os.path.join(d, 'blank')
+            os.makedirs(os.path.join(src, 'rgb'))
+            with open(os.path.join(src, 'rgb.txt'), 'w') as f:
+                f.write('# colour\n# file\n# timestamp filename\n')
+                for i in range(50):  # 5 s at 10 Hz
+                    name = f'rgb/{i}.png'
+                    cv2.imwrite(os.path.join(src, name), np.full((8, 8, 3), 200, np.uint8))
+                    f.write(f'{i / 10:.6f} {name}\n')
+            with open(os.path.join(src, 'groundtruth.txt'), 'w') as f:
+                f.write('0 0 0 0 0 0 0 1\n')
+            out = subprocess.run([sys.executable, os.path.join(BENCH, 'blank_frames.py'), src, dst,
+                                  '--start-fraction', '0.5', '--seconds', '1.0'],
+                                 capture_output=True, text=True, check=True).stdout
+            self.assertTrue(out.startswith('10 blank frames'), out)
+            blank = [i for i in range(50) if cv2.imread(os.path.join(dst, f'rgb/{i}.png')).max() == 0]
+            self.assertEqual(blank, list(range(25, 35)))
+            self.assertTrue(os.path.islink(os.path.join(dst, 'groundtruth.txt')))
+            self.assertTrue(os.path.islink(os.path.join(dst, 'rgb/0.png')))
+
+
+class ProcSamplerTest(unittest.TestCase):
+
+    def test_samples_a_busy_child_of_the_root(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, 'proc.csv')
+            # Spins until it has used 0.6 s of CPU, however loaded the machine is (no wall-time assumption).
+            busy = 'import time\nwhile time.process_time() < 0.6: pass\n'
+            root = subprocess.Popen(['/bin/sh', '-c', f'{sys.executable} -c "{busy}" bench_busy_marker; true'])
+            sampler = subprocess.run([sys.executable, os.path.join(BENCH, 'proc_sampler.py'), '--root-pid',
+                                      str(root.pid), '--out', out, '--hz', '20', '--role', 'busy=bench_busy_marker',
+                                      '--role', 'absent=no_such_process'], timeout=30)
+            root.wait()
+            self.assertEqual(sampler.returncode, 0)
+            with open(out) as f:
+                rows = list(csv.DictReader(f))
+        self.assertGreaterEqual(len(rows), 3)
+        self.assertEqual({r['role'] for r in rows}, {'busy'})
+        cpu = [float(r['cpu_s']) for r in rows]
+        self.assertGreater(cpu[-1], 0.3)  # most of the 0.6 CPU-s (the last 50 ms may fall after the last sample)
+        self.assertEqual(cpu, sorted(cpu))
+        self.assertTrue(all(int(r['rss_kb']) > 0 for r in rows))
+
+
+class CpuPercentTest(unittest.TestCase):
+
+    def test_constant_load(self):
+        t = np.arange(0, 10.001, 0.05)
+        tc, pct = cpu_percent(t, 0.75 * t)
+        self.assertEqual(len(tc), 10)
+        np.testing.assert_allclose(pct, 75.0, atol=1e-6)
+
+
+class PipelineStatsTest(unittest.TestCase):
+
+    def write(self, path, rows):
+        with open(path, 'w') as f:
+            f.write('wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail\n')
+            for r in rows:
+                f.write(','.join(str(v) for v in r) + '\n')
+
+    def test_figures_from_event_rows(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write(os.path.join(d, 'mobile_stats.csv'), [
+                (10.0, 1.0, 'frame', 1, 0, -1, 20.0, 3, 'OK'),
+                (10.1, 1.1, 'keyframe_sent', 1, 45000, -1, -1, -1, ''),
+                (15.0, 6.0, 'update', 1, 400000, 30.0, 12.0, 6, 'periodic accepted'),
+                (20.0, 11.0, 'update', 2, 400000, 40.0, -1, 6, 'periodic controller'),
+                (25.0, 16.0, 'update', 3, 400000, 50.0, 14.0, 6, 'periodic accepted')])
+            self.write(os.path.join(d, 'edge_stats.csv'), [
+                (10.2, 1.1, 'keyframe', 1, 45000, 8.0, -1, -1, 'inserted'),
+                (15.0, 6.0, 'update_sent', 1, 400000, -1, 5.0, -1, 'periodic 6 KFs 900 points'),
+                (20.0, 11.0, 'update_sent', 2, 400000, -1, 7.0, -1, 'periodic 6 KFs 900 points'),
+                (25.0, 16.0, 'update_sent', 3, 400000, -1, 9.0, -1, 'periodic 6 KFs 900 points')])
+            s = pipeline_stats.summarize(d)
+            t, ms = pipeline_stats.tracking_series(d)
+        self.assertEqual(s['keyframe_transmit_ms']['median'], 8.0)
+        self.assertEqual(s['update_construction_ms']['median'], 7.0)
+        self.assertEqual(s['update_publish_interval_s']['median'], 5.0)
+        self.assertEqual(s['update_acceptance_interval_s']['median'], 10.0)
+        self.assertEqual(s['local_map_rebuild_ms']['median'], 13.0)
+        self.assertEqual((s['updates_received'], s['updates_accepted']), (3, 2))
+        self.assertEqual(s['update_decisions'], {'periodic accepted': 2, 'periodic controller': 1})
+        self.assertEqual(pipeline_stats.rebuild_median(s), 13.0)
+        self.assertEqual(list(ms), [20.0])
+
+    def test_no_csv_no_figures(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.assertEqual(pipeline_stats.summarize(d), {})
+            self.assertEqual(pipeline_stats.table_rows({'split': {}}), [])
+
+
+if __name__ == '__main__':
+    unittest.main()
