@@ -26,20 +26,21 @@ VOCAB=bags/vocabulary_synthetic.bin
 [[ -f "$VOCAB" ]] || die "vocabulary '$VOCAB' not found (run 'make dataset')"
 
 BUILD=build_tsan
-say "building the core with -fsanitize=thread in $BUILD/"
-cmake -S edge_slam_common -B "$BUILD" -DEDGE_SLAM_CORE_ONLY=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS="-fsanitize=thread -g -O1" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="" \
-  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" > "$BUILD.cmake.log" 2>&1 || { tail -20 "$BUILD.cmake.log"; die "cmake failed"; }
-cmake --build "$BUILD" -j"${BUILD_JOBS:-2}" --target edge_slam_run > "$BUILD.build.log" 2>&1 ||
-  { grep -E "error" "$BUILD.build.log" | head -20; die "build failed (log: $BUILD.build.log)"; }
-
 OUT=results/tsan
 mkdir -p "$OUT"
+say "building the core with -fsanitize=thread in $BUILD/ (logs in $OUT/)"
+cmake -S edge_slam_common -B "$BUILD" -DEDGE_SLAM_CORE_ONLY=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS="-fsanitize=thread -g -O1" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" > "$OUT/cmake.log" 2>&1 || { tail -20 "$OUT/cmake.log"; die "cmake failed"; }
+cmake --build "$BUILD" -j"${BUILD_JOBS:-2}" --target edge_slam_run > "$OUT/build.log" 2>&1 ||
+  { grep -E "error" "$OUT/build.log" | head -20; die "build failed (log: $OUT/build.log)"; }
+
 LOG="$OUT/tsan.log"
 say "running edge_slam_run (monolithic, 3 threads) on $DATASET under TSan -> $LOG"
 set +e
-# history_size: longer access histories, so reports carry both stacks.
-TSAN_OPTIONS="halt_on_error=0 second_deadlock_stack=1 history_size=4 ${TSAN_OPTIONS:-}" \
+# history_size: longer access histories, so reports carry both stacks; tsan.supp silences
+# third-party libraries only (each entry says why).
+TSAN_OPTIONS="halt_on_error=0 second_deadlock_stack=1 history_size=4 suppressions=$ROOT/scripts/tsan.supp ${TSAN_OPTIONS:-}" \
   "$BUILD/edge_slam_run" --dataset "$DATASET" --vocabulary "$VOCAB" --out "$OUT" --pace none \
   "${RUN_ARGS[@]}" > "$LOG" 2>&1
 rc=$?
