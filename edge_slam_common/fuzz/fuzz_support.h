@@ -15,20 +15,7 @@ namespace edge_slam {
 namespace fuzz {
 
 inline const PinholeCamera& camera() {
-  static const PinholeCamera c = [] {
-    const CameraRecord r = fixtures::camera();
-    PinholeCamera p;
-    p.name = r.name;
-    p.width = r.width;
-    p.height = r.height;
-    p.fx = r.fx;
-    p.fy = r.fy;
-    p.cx = r.cx;
-    p.cy = r.cy;
-    p.bf = r.bf;
-    p.th_depth = r.th_depth;
-    return p;
-  }();
+  static const PinholeCamera c = fixtures::pinhole_camera();
   return c;
 }
 
