@@ -4,6 +4,9 @@
 #   runner: $EDGE_SLAM_RUN, else .ws/devel/lib/edge_slam_common/edge_slam_run
 #   ATE:    .venv/bin/evo_ape (tum <gt> <traj> -a) if present, else scripts/ate.py
 # Extra runner options can be passed in EDGE_SLAM_ARGS (e.g. "--camera config/camera_tum1.yaml").
+# Without --vocabulary in EDGE_SLAM_ARGS, a dataset other than bags/synthetic_room gets a
+# vocabulary trained on itself (train_vocabulary next to the runner, or
+# $EDGE_SLAM_TRAIN_VOCABULARY), cached in results/cache/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,11 +14,7 @@ DATASET="${DATASET:-bags/synthetic_room}"
 MODE="${MODE:-monolithic}"
 OUT="${OUT:-results/$(basename "$DATASET")-$MODE}"
 
-if [[ "$MODE" == "split" ]]; then
-  echo "eval: MODE=split is not yet available (the edge/mobile split is a later issue)" >&2
-  exit 2
-fi
-if [[ "$MODE" != "monolithic" ]]; then
+if [[ "$MODE" != "monolithic" && "$MODE" != "split" ]]; then
   echo "eval: unknown MODE '$MODE' (monolithic|split)" >&2
   exit 1
 fi
@@ -28,24 +27,66 @@ if [[ ! -f "$DATASET/groundtruth.txt" ]]; then
   exit 1
 fi
 
-RUN="${EDGE_SLAM_RUN:-.ws/devel/lib/edge_slam_common/edge_slam_run}"
-if [[ ! -x "$RUN" ]]; then
-  echo "eval: runner '$RUN' not found; build first (make build) or set EDGE_SLAM_RUN" >&2
-  exit 1
+VOCAB=""
+# Vocabulary: the configured default was trained on the synthetic sequence. For any other
+# dataset without --vocabulary, train one from the dataset itself, as the reference ORB-SLAM2
+# figures were obtained (vocabulary trained on the sequence itself), into a git-ignored cache
+# keyed by the dataset's real path. Derived from the dataset: never commit results/cache/.
+if [[ "${EDGE_SLAM_ARGS:-}" != *--vocabulary* ]]; then
+  SYNTH_RGB=$(realpath -e bags/synthetic_room/rgb.txt 2>/dev/null || true)
+  if [[ "$(realpath -e "$DATASET/rgb.txt" 2>/dev/null || true)" != "$SYNTH_RGB" || -z "$SYNTH_RGB" ]]; then
+    TRAIN="${EDGE_SLAM_TRAIN_VOCABULARY:-.ws/devel/lib/edge_slam_common/train_vocabulary}"
+    KEY=$(realpath "$DATASET" | sha1sum | cut -c1-12)
+    VOCAB="results/cache/vocabulary-$(basename "$DATASET")-$KEY.bin"
+    if [[ ! -s "$VOCAB" ]]; then
+      if [[ ! -x "$TRAIN" ]]; then
+        echo "eval: vocabulary trainer '$TRAIN' not found; build first or set EDGE_SLAM_TRAIN_VOCABULARY" >&2
+        exit 1
+      fi
+      echo "eval: no --vocabulary given and $DATASET is not the synthetic sequence: training a vocabulary" \
+           "from the dataset itself (every 3rd frame), as for the reference ORB-SLAM2 run -> $VOCAB" \
+           "(cached, git-ignored, never commit it)" >&2
+      mkdir -p results/cache
+      "$TRAIN" --out "$VOCAB.tmp" --every 3 "$DATASET" >&2
+      mv "$VOCAB.tmp" "$VOCAB"
+    else
+      echo "eval: using the vocabulary trained on $DATASET itself: $VOCAB (cached)" >&2
+    fi
+  fi
 fi
 
-ARGS=(--dataset "$DATASET" --out "$OUT")
-# TUM freiburg1 folders carry no camera.yaml: use the shipped fr1 calibration.
-if [[ ! -f "$DATASET/camera.yaml" && "${EDGE_SLAM_ARGS:-}" != *--camera* ]]; then
-  case "$(basename "$DATASET")" in
-    *fr1*|*freiburg1*) echo "eval: $DATASET has no camera.yaml, using config/camera_tum1.yaml" >&2
-                       ARGS+=(--camera config/camera_tum1.yaml) ;;
-  esac
-fi
+if [[ "$MODE" == "split" ]]; then
+  # The same camera and vocabulary choice as the runner's: --camera/--vocabulary in EDGE_SLAM_ARGS,
+  # else <dataset>/camera.yaml (fr1 folders: config/camera_tum1.yaml) and the default vocabulary.
+  arg_of() { sed -nE "s/.*--$1[ =]([^ ]+).*/\1/p" <<< "${EDGE_SLAM_ARGS:-}"; }
+  CAMERA=$(arg_of camera); VOCABULARY=$(arg_of vocabulary)
+  if [[ -z "$CAMERA" ]]; then
+    CAMERA="$DATASET/camera.yaml"
+    case "$(basename "$DATASET")" in *fr1*|*freiburg1*) [[ -f "$CAMERA" ]] || CAMERA=config/camera_tum1.yaml ;; esac
+  fi
+  VOCABULARY="${VOCABULARY:-${VOCAB:-bags/vocabulary_synthetic.bin}}"
+  [[ "$VOCABULARY" = /* ]] || VOCABULARY="$PWD/$VOCABULARY"
+  DATASET="$DATASET" OUT="$OUT" CAMERA="$CAMERA" VOCABULARY="$VOCABULARY" bash scripts/eval_split.sh
+else
+  RUN="${EDGE_SLAM_RUN:-.ws/devel/lib/edge_slam_common/edge_slam_run}"
+  if [[ ! -x "$RUN" ]]; then
+    echo "eval: runner '$RUN' not found; build first (make build) or set EDGE_SLAM_RUN" >&2
+    exit 1
+  fi
 
-mkdir -p "$OUT"
-# shellcheck disable=SC2086
-"$RUN" "${ARGS[@]}" ${EDGE_SLAM_ARGS:-}
+  ARGS=(--dataset "$DATASET" --out "$OUT")
+  # TUM freiburg1 folders carry no camera.yaml: use the shipped fr1 calibration.
+  if [[ ! -f "$DATASET/camera.yaml" && "${EDGE_SLAM_ARGS:-}" != *--camera* ]]; then
+    case "$(basename "$DATASET")" in
+      *fr1*|*freiburg1*) echo "eval: $DATASET has no camera.yaml, using config/camera_tum1.yaml" >&2
+                         ARGS+=(--camera config/camera_tum1.yaml) ;;
+    esac
+  fi
+
+  mkdir -p "$OUT"
+  # shellcheck disable=SC2086
+  "$RUN" "${ARGS[@]}" ${VOCAB:+--vocabulary "$VOCAB"} ${EDGE_SLAM_ARGS:-}
+fi
 
 TRAJ="$OUT/trajectory.txt"
 if [[ $(grep -vc '^#' "$TRAJ" || true) -lt 3 ]]; then
@@ -85,3 +126,17 @@ print(f"ATE RMSE {ate['ate_rmse_m'] * 100:.2f} cm ({ate['ate_tool']}), "
       f"frames tracked {m['frames_tracked']}/{m['frames']}, "
       f"tracking median {m['tracking_ms']['median']:.1f} ms -> {path}")
 PY
+
+if [[ "$MODE" == "split" && -f "$OUT/trajectory_online.txt" ]]; then
+  # The poses as the mobile tracked them (before the edge's later optimisation and loop closure).
+  /usr/bin/python3 - "$OUT/metrics.json" "$(/usr/bin/python3 scripts/ate.py "$DATASET/groundtruth.txt" "$OUT/trajectory_online.txt" --json)" <<'PY'
+import json, sys
+path, ate = sys.argv[1], json.loads(sys.argv[2])
+m = json.load(open(path))
+m["ate_online_rmse_m"] = ate["ate_rmse_m"]
+json.dump(m, open(path, "w"), indent=2)
+u = m.get("updates", {})
+print(f"split: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; updates accepted {u.get('accepted')}/"
+      f"{u.get('received')}; Local-Map peak {m.get('local_map_peak')} KeyFrames; edge loops closed {m.get('loops_closed')}")
+PY
+fi

@@ -5,6 +5,7 @@
 
 #include "edge_slam/camera/camera_loader.h"
 #include "edge_slam/io/config_file.h"
+#include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/tracking_params.h"
 
 using namespace edge_slam;
@@ -114,3 +115,24 @@ TEST(Config, ShippedConfigsLoad) {
   mobile.set("tracking/keyframe_conditions", "sometimes");
   EXPECT_NE(error_of([&] { load_tracking_params(mobile); }).find("keyframe_conditions"), std::string::npos);
 }
+
+TEST(Config, LocalMappingSectionLoadsAndRejectsBadValues) {
+  const ConfigMap slam = ConfigMap::load("../config/slam.yaml");
+  ASSERT_TRUE(slam.has("local_mapping/ba_first_pass_iterations"));  // documented in the shipped file
+  const LocalMappingParams lm = load_local_mapping_params(slam);
+  EXPECT_EQ(lm.ba_first_pass_iterations, 5);
+  EXPECT_EQ(lm.ba_second_pass_iterations, 10);
+  EXPECT_EQ(lm.triangulation.num_covisibles, 10u);
+  EXPECT_FLOAT_EQ(lm.point_culling.min_found_ratio, 0.25f);
+  EXPECT_DOUBLE_EQ(lm.keyframe_culling.redundant_ratio, 0.9);
+  EXPECT_TRUE(lm.local_ba);
+  ConfigMap bad = slam;
+  bad.set("local_mapping/ba_first_pass_iterations", "0");
+  EXPECT_NE(error_of([&] { load_local_mapping_params(bad); }).find("ba_first_pass_iterations"), std::string::npos);
+  bad = slam;
+  bad.set("local_mapping/keyframe_redundant_ratio", "1.5");
+  EXPECT_NE(error_of([&] { load_local_mapping_params(bad); }).find("keyframe_redundant_ratio"), std::string::npos);
+  const LocalMappingParams defaults = load_local_mapping_params(ConfigMap::parse("orb:\n  num_levels: 8\n"));
+  EXPECT_EQ(defaults.ba_second_pass_iterations, 10);
+}
+

@@ -119,6 +119,33 @@ TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
   EXPECT_EQ(c.accepted, 1u);
 }
 
+TEST(MobileSession, LocalMapStaysWithinItsCapAndEveryKeyFrameIsStillSent) {
+  const RenderedSequence& seq = sequence();
+  MobileSessionParams params;
+  params.local_map_cap = 3;
+  MobileSession session(seq.camera, OrbParams(), TrackingParams(), seq.vocabulary, params, RgbEncoding::kRgb);
+  size_t peak = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+    peak = std::max(peak, session.local_map_keyframes());
+  }
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  ASSERT_GT(sent.size(), 4u) << "the walk must make more KeyFrames than the cap for this test to mean anything";
+  EXPECT_LE(peak, 3u);
+  EXPECT_EQ(session.local_map_peak(), peak);
+  EXPECT_EQ(session.keyframes_dropped_by_cap(), sent.size() - session.local_map_keyframes());
+  for (size_t i = 0; i < sent.size(); ++i) {
+    EXPECT_EQ(sent[i].seq, i + 1) << "every KeyFrame reaches the outbox, in order";
+    EXPECT_GT(sent[i].created_wall, 1.6e9) << "creation wall time set for the transmit latency";
+  }
+  // Every point the remaining KeyFrames observe is still in the map: dropping left no dangling links.
+  const auto map = session.local_map();
+  for (const auto& kf : map->keyframes())
+    for (uint32_t id : kf->map_point_ids())
+      if (id != kNoId) EXPECT_NE(map->map_point(id), nullptr) << "KeyFrame " << kf->id() << " point " << id;
+}
+
 TEST(MobileSession, ControllerBlocksUpdatesAndResetSendsTheFlag) {
   const RenderedSequence& seq = sequence();
   MobileSession session = make_session();
@@ -193,6 +220,10 @@ TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
   EXPECT_EQ(c.duplicates, c.received / 2);
   EXPECT_GE(applied, 2);
   EXPECT_EQ(edge.global_map()->num_keyframes(), c.inserted) << "no KeyFrame culled in 4 s";
+  const KeyFrameAccount account = edge.keyframe_account();
+  EXPECT_EQ(account.inserted.size(), c.inserted);
+  EXPECT_EQ(account.in_map, account.inserted);
+  EXPECT_TRUE(account.culled.empty());
   // Points the edge triangulated live in the edge's id space and reached the mobile intact.
   size_t edge_points = 0;
   for (const auto& mp : mobile.local_map()->map_points()) edge_points += mp->id() >= kEdgePointIdFirst;
@@ -204,6 +235,7 @@ TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
   ASSERT_TRUE(reset_record);
   EXPECT_EQ(edge.receive_keyframe(*reset_record), KeyFrameVerdict::kReset);
   EXPECT_EQ(edge.global_map()->num_keyframes(), 0u);
+  EXPECT_TRUE(edge.keyframe_account().inserted.empty());
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 #include "edge_slam/io/trajectory_io.h"
 #include "edge_slam/io/tum_dataset.h"
 #include "edge_slam/io/vocabulary_io.h"
+#include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/slam_system.h"
 #include "edge_slam/module/tracking.h"
 #include "edge_slam/module/tracking_params.h"
@@ -139,6 +140,7 @@ int main(int argc, char** argv) {
     SlamSystemOptions options;
     options.local_mapping = !no_mapping;
     options.loop_closing = !no_mapping && !no_loop;
+    options.mapping = load_local_mapping_params(cfg);
     // Images come from OpenCV's imread, which always yields BGR.
     SlamSystem slam(camera, orb, tracking_params, vocabulary, options, RgbEncoding::kBgr);
     const Map& map_ref = slam.map();

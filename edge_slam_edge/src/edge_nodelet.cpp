@@ -1,36 +1,62 @@
 // The Edge-SLAM edge nodelet: ROS plumbing around edge_slam::EdgeSession.
 //   in:  keyframes (always taken; conditions 1-2 decide insertion), frames (relocalization)
 //   out: map_updates (Local-Map Update Module timer; relocalization answers), ~global_map
-//        (PointCloud2), ~keyframe_path (KeyFrame poses as nav_msgs/Path)
-// Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame.
+//        (PointCloud2), ~keyframes (MarkerArray), ~keyframe_path (nav_msgs/Path), ~loops
+//        (one line per loop closed), ~stats (1 Hz)
+//   srv: ~status (edge_slam_msgs/GetEdgeStatus: counters and KeyFrame id accounting)
+// Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
+// ~stats_csv, ~metrics_file, ~keyframes_file (the Global-Map's KeyFrame poses; empty = not written).
 // Malformed messages are rejected with one throttled error and counted; nothing crashes.
+#include <edge_slam/io/event_log.h>
+#include <edge_slam/io/metrics_json.h>
+#include <edge_slam/io/trajectory_io.h>
 #include <edge_slam/module/edge_session.h>
 #include <edge_slam/module/tracking_params.h>
+#include <edge_slam/util/wall_clock.h>
 #include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_bridge/node_config.h>
 #include <edge_slam_bridge/pose_conversion.h>
+#include <edge_slam_msgs/GetEdgeStatus.h>
+#include <edge_slam_msgs/Stats.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <std_msgs/String.h>
 
 #include <atomic>
+#include <cstdio>
+#include <fstream>
 #include <memory>
+#include <mutex>
 
 namespace edge_slam_edge {
 
+template <typename M>
+size_t wire_size(const M& msg) {
+  return ros::serialization::serializationLength(msg);
+}
+
 class EdgeNodelet : public nodelet::Nodelet {
+ public:
+  ~EdgeNodelet() override { write_metrics(); }
+
  private:
   void onInit() override {
     ros::NodeHandle& nh = getMTNodeHandle();
     ros::NodeHandle& pnh = getMTPrivateNodeHandle();
     pnh.param<std::string>("map_frame", map_frame_, "map");
+    pnh.param<std::string>("metrics_file", metrics_file_, "");
+    pnh.param<std::string>("keyframes_file", keyframes_file_, "");
+    std::string stats_csv;
+    pnh.param<std::string>("stats_csv", stats_csv, "");
     double update_period = 5.0;
     try {
       const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
       const edge_slam::OrbParams orb = edge_slam::load_orb_params(cfg.slam);
       update_period = cfg.slam.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
+      events_ = std::make_unique<edge_slam::EventLog>(stats_csv);
       session_ = std::make_unique<edge_slam::EdgeSession>(cfg.camera, orb.num_levels, orb.scale_factor,
                                                           cfg.vocabulary, edge_slam::load_edge_session_params(cfg.slam));
     } catch (const std::exception& e) {
@@ -39,25 +65,40 @@ class EdgeNodelet : public nodelet::Nodelet {
     }
     update_pub_ = nh.advertise<edge_slam_msgs::MapUpdate>("map_updates", 10);
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("global_map", 1, true);
+    marker_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true);
     path_pub_ = pnh.advertise<nav_msgs::Path>("keyframe_path", 1, true);
+    loop_pub_ = pnh.advertise<std_msgs::String>("loops", 10, true);
+    stats_pub_ = pnh.advertise<edge_slam_msgs::Stats>("stats", 10);
+    status_srv_ = pnh.advertiseService("status", &EdgeNodelet::on_status, this);
     keyframe_sub_ = nh.subscribe("keyframes", 1000, &EdgeNodelet::on_keyframe, this);
     frame_sub_ = nh.subscribe("frames", 5, &EdgeNodelet::on_frame, this);
     update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) { send_update(); });
     display_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_map(); });
+    stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
     NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map, updates every %.1f s", update_period);
   }
 
   void on_keyframe(const edge_slam_msgs::KeyFrame::ConstPtr& msg) {
+    const size_t bytes = wire_size(*msg);
     edge_slam::KeyFrameRecord record;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, record);
     if (!status.ok) {
       const uint64_t rejected = ++invalid_;
       NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed KeyFrame (%lu malformed messages so far): %s",
                              static_cast<unsigned long>(rejected), status.error.c_str());
+      log_event("keyframe", msg->stamp.toSec(), msg->seq, bytes, -1, -1, "malformed");
       return;
+    }
+    // Created on the mobile (its wall clock) -> received and deserialised here.
+    const double latency_ms = (edge_slam::wall_clock_seconds() - record.created_wall) * 1e3;
+    {
+      std::lock_guard<std::mutex> lock(figures_mutex_);
+      keyframe_latency_ms_.push_back(latency_ms);
+      keyframe_bytes_ += bytes;
     }
     std::string error;
     const edge_slam::KeyFrameVerdict v = session_->receive_keyframe(record, &error);
+    log_event("keyframe", record.stamp, record.seq, bytes, latency_ms, -1, edge_slam::to_string(v));
     if (v == edge_slam::KeyFrameVerdict::kInvalid)
       NODELET_ERROR_THROTTLE(5.0, "KeyFrame %u refused: %s", record.id, error.c_str());
     else if (v == edge_slam::KeyFrameVerdict::kReset)
@@ -67,40 +108,99 @@ class EdgeNodelet : public nodelet::Nodelet {
   }
 
   void on_frame(const edge_slam_msgs::Frame::ConstPtr& msg) {
+    const size_t bytes = wire_size(*msg);
     edge_slam::FrameRecord record;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, record);
     if (!status.ok) {
       const uint64_t rejected = ++invalid_;
       NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed Frame (%lu malformed messages so far): %s",
                              static_cast<unsigned long>(rejected), status.error.c_str());
+      log_event("frame", msg->stamp.toSec(), msg->seq, bytes, -1, -1, "malformed");
       return;
     }
+    const double latency_ms = (edge_slam::wall_clock_seconds() - record.created_wall) * 1e3;
+    const double start = edge_slam::wall_clock_seconds();
     std::string error;
-    auto update = session_->build_relocalization_update(record, ros::Time::now().toSec(), &error);
+    auto update = session_->build_relocalization_update(record, start, &error);
     if (!error.empty()) NODELET_ERROR_THROTTLE(5.0, "Frame %u refused: %s", record.id, error.c_str());
+    log_event("frame", record.stamp, record.seq, bytes, latency_ms, -1,
+              update ? "answered" : (error.empty() ? "no candidates" : "refused"));
     if (update) publish(*update);
   }
 
   void send_update() {
-    if (auto update = session_->build_local_map_update(ros::Time::now().toSec())) publish(*update);
+    if (auto update = session_->build_local_map_update(edge_slam::wall_clock_seconds())) publish(*update);
   }
 
+  // Construction latency = build start -> serialised and handed to ROS.
   void publish(edge_slam::MapUpdateRecord& update) {
-    update.publish_stamp = ros::Time::now().toSec();
-    update_pub_.publish(edge_slam::to_message(update));
+    update.publish_stamp = edge_slam::wall_clock_seconds();
+    const edge_slam_msgs::MapUpdate msg = edge_slam::to_message(update);
+    const size_t bytes = wire_size(msg);
+    update_pub_.publish(msg);
+    const double build_ms = (edge_slam::wall_clock_seconds() - update.build_start) * 1e3;
+    {
+      std::lock_guard<std::mutex> lock(figures_mutex_);
+      update_build_ms_.push_back(build_ms);
+      update_bytes_ += bytes;
+      ++updates_sent_;
+    }
+    const bool reloc = update.kind == edge_slam::MapUpdateKind::kRelocalization;
+    log_event("update_sent", ros::Time::now().toSec(), update.seq, bytes, -1, build_ms,
+              std::string(reloc ? "relocalization " : "periodic ") + std::to_string(update.keyframes.size()) + " KFs " +
+                  std::to_string(update.points.size()) + " points");
+  }
+
+  bool on_status(edge_slam_msgs::GetEdgeStatus::Request&, edge_slam_msgs::GetEdgeStatus::Response& res) {
+    const edge_slam::EdgeCounters c = session_->counters();
+    res.received = static_cast<uint32_t>(c.received);
+    res.inserted = static_cast<uint32_t>(c.inserted);
+    res.duplicates = static_cast<uint32_t>(c.duplicates);
+    res.rejected_condition1 = static_cast<uint32_t>(c.rejected_condition1);
+    res.rejected_condition2 = static_cast<uint32_t>(c.rejected_condition2);
+    res.invalid = static_cast<uint32_t>(c.invalid + invalid_);
+    res.resets = static_cast<uint32_t>(c.resets);
+    res.updates_sent = static_cast<uint32_t>(c.updates_built);
+    res.relocalization_updates_sent = static_cast<uint32_t>(c.relocalization_updates_built);
+    res.loops_closed = static_cast<uint32_t>(session_->loops_closed());
+    const auto map = session_->global_map();
+    res.global_map_keyframes = static_cast<uint32_t>(map->num_keyframes());
+    res.global_map_points = static_cast<uint32_t>(map->num_map_points());
+    const edge_slam::KeyFrameAccount a = session_->keyframe_account();
+    res.inserted_ids = a.inserted;
+    res.culled_ids = a.culled;
+    res.global_map_ids = a.in_map;
+    return true;
+  }
+
+  void log_event(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms,
+                 double duration_ms, const std::string& detail) {
+    edge_slam::EventRow row;
+    row.wall_time = edge_slam::wall_clock_seconds();
+    row.data_time = data_time;
+    row.event = event;
+    row.seq = seq;
+    row.bytes = bytes;
+    row.latency_ms = latency_ms;
+    row.duration_ms = duration_ms;
+    row.map_keyframes = static_cast<long>(session_->global_map()->num_keyframes());
+    row.detail = detail;
+    events_->add(std::move(row));
   }
 
   void publish_map() {
     if (!session_) return;
     const auto map = session_->global_map();
     const ros::Time stamp = ros::Time::now();
-    if (cloud_pub_.getNumSubscribers() > 0) {
+    if (cloud_pub_.getNumSubscribers() > 0)
       cloud_pub_.publish(edge_slam::to_point_cloud(map->map_points(), map_frame_, stamp));
-    }
+    const auto kfs = map->keyframes();
+    if (marker_pub_.getNumSubscribers() > 0)
+      marker_pub_.publish(edge_slam::keyframe_markers(kfs, map_frame_, stamp, "global_map", 1.0f, 0.55f, 0.0f));
     nav_msgs::Path path;
     path.header.frame_id = map_frame_;
     path.header.stamp = stamp;
-    for (const auto& kf : map->keyframes()) {
+    for (const auto& kf : kfs) {
       geometry_msgs::PoseStamped p;
       p.header.frame_id = map_frame_;
       p.header.stamp = ros::Time(kf->stamp());
@@ -110,13 +210,139 @@ class EdgeNodelet : public nodelet::Nodelet {
     path_pub_.publish(path);
   }
 
+  void publish_stats() {
+    if (!session_) return;
+    const auto loops = session_->loops();
+    for (size_t i = loops_announced_; i < loops.size(); ++i) {
+      std_msgs::String s;
+      s.data = "loop closed: KeyFrame " + std::to_string(loops[i].current_kf_id) + " <-> KeyFrame " +
+               std::to_string(loops[i].loop_kf_id) + " (" + std::to_string(loops[i].matches) + " matches)";
+      NODELET_INFO("%s", s.data.c_str());
+      loop_pub_.publish(s);
+      log_event("loop", ros::Time::now().toSec(), loops[i].current_kf_id, 0, -1, -1, s.data);
+    }
+    loops_announced_ = loops.size();
+
+    const edge_slam::EdgeCounters c = session_->counters();
+    const auto map = session_->global_map();
+    edge_slam_msgs::Stats m;
+    m.header.stamp = ros::Time::now();
+    m.node = "edge";
+    auto add = [&m](const char* name, double v) {
+      m.names.push_back(name);
+      m.values.push_back(v);
+    };
+    add("keyframes_received", static_cast<double>(c.received));
+    add("keyframes_inserted", static_cast<double>(c.inserted));
+    add("keyframes_duplicate", static_cast<double>(c.duplicates));
+    add("keyframes_rejected_condition1", static_cast<double>(c.rejected_condition1));
+    add("keyframes_rejected_condition2", static_cast<double>(c.rejected_condition2));
+    add("messages_invalid", static_cast<double>(c.invalid + invalid_));
+    add("resets", static_cast<double>(c.resets));
+    add("global_map_keyframes", static_cast<double>(map->num_keyframes()));
+    add("global_map_points", static_cast<double>(map->num_map_points()));
+    add("loops_closed", static_cast<double>(loops.size()));
+    add("mapping_idle", session_->mapping_idle() ? 1.0 : 0.0);
+    {
+      std::lock_guard<std::mutex> lock(figures_mutex_);
+      add("updates_sent", static_cast<double>(updates_sent_));
+      add("update_bytes_sent", static_cast<double>(update_bytes_));
+      add("keyframe_bytes_received", static_cast<double>(keyframe_bytes_));
+      add("keyframe_latency_ms_last", keyframe_latency_ms_.empty() ? 0.0 : keyframe_latency_ms_.back());
+      add("update_build_ms_last", update_build_ms_.empty() ? 0.0 : update_build_ms_.back());
+    }
+    stats_pub_.publish(m);
+    events_->flush();
+    write_metrics();
+  }
+
+  // metrics.json, rewritten every second and at shutdown.
+  void write_metrics() {
+    if (!session_ || metrics_file_.empty()) return;
+    std::lock_guard<std::mutex> write_lock(write_mutex_);
+    const edge_slam::EdgeCounters c = session_->counters();
+    const edge_slam::EdgeTimings t = session_->timings();
+    edge_slam::MetricsJson keyframes, mapping, m;
+    keyframes.integer("received", static_cast<long long>(c.received))
+        .integer("inserted", static_cast<long long>(c.inserted))
+        .integer("duplicates", static_cast<long long>(c.duplicates))
+        .integer("rejected_condition1", static_cast<long long>(c.rejected_condition1))
+        .integer("rejected_condition2", static_cast<long long>(c.rejected_condition2))
+        .integer("invalid", static_cast<long long>(c.invalid + invalid_))
+        .integer("resets", static_cast<long long>(c.resets));
+    mapping.integer("keyframes_processed", t.mapping.keyframes_processed)
+        .integer("points_created", t.mapping.points_created)
+        .integer("points_culled", t.mapping.points_culled)
+        .integer("points_fused", t.mapping.points_fused)
+        .integer("keyframes_culled", t.mapping.keyframes_culled)
+        .integer("local_ba_runs", t.mapping.local_ba_runs)
+        .integer("local_ba_aborted", t.mapping.local_ba_aborted)
+        .integer("local_ba_failed", t.mapping.local_ba_failed);
+    std::string loops = "[";
+    for (const auto& l : session_->loops())
+      loops += (loops.size() > 1 ? ", " : "") + std::string("{\"kf\": ") + std::to_string(l.current_kf_id) +
+               ", \"loop_kf\": " + std::to_string(l.loop_kf_id) + ", \"matches\": " + std::to_string(l.matches) + "}";
+    loops += "]";
+    const auto map = session_->global_map();
+    m.text("node", "edge")
+        .object("keyframes", keyframes)
+        .integer("global_map_keyframes", static_cast<long long>(map->num_keyframes()))
+        .integer("global_map_points", static_cast<long long>(map->num_map_points()))
+        .integer("loops_closed", static_cast<long long>(session_->loops_closed()))
+        .integer("full_ba_runs", t.full_ba_runs)
+        .raw("loops", loops)
+        .object("local_mapping", mapping)
+        .timing("local_mapping_ms", t.local_mapping_ms)
+        .timing("local_ba_ms", t.local_ba_ms)
+        .timing("loop_detection_ms", t.loop_detection_ms)
+        .timing("loop_correction_ms", t.loop_correction_ms)
+        .timing("full_ba_ms", t.full_ba_ms);
+    {
+      std::lock_guard<std::mutex> lock(figures_mutex_);
+      m.integer("updates_sent", static_cast<long long>(updates_sent_))
+          .integer("update_bytes_sent", static_cast<long long>(update_bytes_))
+          .integer("keyframe_bytes_received", static_cast<long long>(keyframe_bytes_))
+          .timing("keyframe_transmit_ms", keyframe_latency_ms_)
+          .timing("update_build_ms", update_build_ms_);
+    }
+    try {
+      m.write(metrics_file_);
+      if (!keyframes_file_.empty()) write_keyframes(*map);
+    } catch (const std::exception& e) {
+      NODELET_ERROR_THROTTLE(30.0, "%s", e.what());
+    }
+  }
+
+  // "id stamp tx ty tz qx qy qz qw" (T_wc) of every Global-Map KeyFrame, replaced atomically.
+  void write_keyframes(const edge_slam::Map& map) {
+    const std::string tmp = keyframes_file_ + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::out | std::ios::trunc);
+      out << "# keyframe_id timestamp tx ty tz qx qy qz qw (T_wc, Global-Map)\n";
+      for (const auto& kf : map.keyframes()) {
+        out << kf->id() << ' ';
+        edge_slam::write_tum_pose(out, kf->stamp(), kf->T_wc());
+      }
+      if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
+    }
+    if (std::rename(tmp.c_str(), keyframes_file_.c_str()) != 0)
+      throw std::runtime_error("cannot rename '" + tmp + "' to '" + keyframes_file_ + "'");
+  }
+
   std::unique_ptr<edge_slam::EdgeSession> session_;
-  std::string map_frame_;
+  std::unique_ptr<edge_slam::EventLog> events_;
+  std::string map_frame_, metrics_file_, keyframes_file_;
   std::atomic<uint64_t> invalid_{0};
-  ros::Publisher update_pub_, cloud_pub_, path_pub_;
+  size_t loops_announced_ = 0;  // stats timer only
+  std::mutex write_mutex_;      // metrics.json writers (timer, destructor)
+  std::mutex figures_mutex_;    // the figures below: message callbacks vs timers
+  std::vector<double> keyframe_latency_ms_, update_build_ms_;
+  uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
+  ros::Publisher update_pub_, cloud_pub_, marker_pub_, path_pub_, loop_pub_, stats_pub_;
   ros::Subscriber keyframe_sub_, frame_sub_;
+  ros::ServiceServer status_srv_;
   ros::Timer update_timer_;
-  ros::WallTimer display_timer_;
+  ros::WallTimer display_timer_, stats_timer_;
 };
 
 }  // namespace edge_slam_edge

@@ -1,17 +1,22 @@
 // The Edge-SLAM mobile nodelet: ROS plumbing around edge_slam::MobileSession.
-//   in:  rgb/image + depth/image (image_transport, approximate-time synchronised), map_updates
+//   in:  rgb/image + depth/image (image_transport, approximate-time synchronised),
+//        rgb/camera_info (intrinsics; YAML when absent), map_updates
 //   out: keyframes (sender thread), frames (while lost), TF map -> camera, ~odometry, ~path,
-//        ~local_map (PointCloud2), ~state
+//        ~local_map (PointCloud2), ~keyframes (MarkerArray), ~state, ~stats (1 Hz)
 //   srv: ~set_map_updates, ~map_update_status (the map-update controller), ~reset
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
-// ~camera_frame. Bad input is logged once (throttled) with what was expected, counted, and
-// dropped; the nodelet keeps running.
-#include <cv_bridge/cv_bridge.h>
+// ~camera_frame, ~use_camera_info (true), ~camera_info_timeout (s), ~stats_csv, ~metrics_file,
+// ~trajectory_file (empty = not written), ~path_max_poses. Bad input is logged once
+// (throttled) with what was expected, counted, and dropped; the nodelet keeps running.
+#include <edge_slam/io/event_log.h>
+#include <edge_slam/io/trajectory_io.h>
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam/module/tracking_params.h>
+#include <edge_slam/util/wall_clock.h>
 #include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_bridge/node_config.h>
+#include <edge_slam_bridge/pose_conversion.h>
 #include <edge_slam_msgs/GetMapUpdateStatus.h>
 #include <edge_slam_msgs/SetMapUpdates.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -28,25 +33,33 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <atomic>
-#include <mutex>
+#include <fstream>
+#include <iomanip>
 #include <memory>
-#include <opencv2/imgproc.hpp>
+#include <mutex>
 #include <thread>
 
+#include "camera_info_input.h"
 #include "image_input.h"
-#include <edge_slam_bridge/pose_conversion.h>
+#include "mobile_metrics.h"
 
 namespace edge_slam_mobile {
 
 using edge_slam::MobileSession;
 using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::Image>;
 
+template <typename M>
+size_t wire_size(const M& msg) {
+  return ros::serialization::serializationLength(msg);
+}
+
 class MobileNodelet : public nodelet::Nodelet {
  public:
   ~MobileNodelet() override {
     running_ = false;
-    if (session_) session_->outbox().close();
+    if (auto s = session()) s->outbox().close();
     if (sender_.joinable()) sender_.join();
+    write_outputs();
   }
 
  private:
@@ -55,14 +68,33 @@ class MobileNodelet : public nodelet::Nodelet {
     ros::NodeHandle& pnh = getMTPrivateNodeHandle();
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("camera_frame", camera_frame_, "camera");
+    pnh.param("use_camera_info", use_camera_info_, true);
+    pnh.param("camera_info_timeout", camera_info_timeout_, 2.0);
+    pnh.param("path_max_poses", path_max_poses_, 20000);
+    pnh.param<std::string>("metrics_file", metrics_file_, "");
+    pnh.param<std::string>("dataset", dataset_, "");
+    std::string stats_csv, trajectory_file, anchors_file;
+    pnh.param<std::string>("stats_csv", stats_csv, "");
+    pnh.param<std::string>("trajectory_file", trajectory_file, "");
+    pnh.param<std::string>("anchors_file", anchors_file, "");
     try {
-      const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
-      camera_ = cfg.camera;
-      edge_slam::TrackingParams tracking = edge_slam::load_tracking_params(cfg.slam);
-      tracking.conditions = edge_slam::KeyFrameConditionSet::kMobile;  // 1-2 run on the edge (paper 4.4)
-      session_ = std::make_unique<MobileSession>(camera_, edge_slam::load_orb_params(cfg.slam), tracking,
-                                                 cfg.vocabulary, edge_slam::load_mobile_session_params(cfg.slam),
-                                                 edge_slam::RgbEncoding::kRgb);
+      config_ = edge_slam::load_node_config(pnh);
+      // Parse every section now so a bad value is refused at start, naming the parameter.
+      tracking_ = edge_slam::load_tracking_params(config_.slam);  // MobileSession keeps conditions 3-5 only
+      orb_ = edge_slam::load_orb_params(config_.slam);
+      session_params_ = edge_slam::load_mobile_session_params(config_.slam);
+      events_ = std::make_unique<edge_slam::EventLog>(stats_csv);
+      if (!trajectory_file.empty()) {
+        trajectory_.open(trajectory_file, std::ios::out | std::ios::trunc);
+        if (!trajectory_) throw std::runtime_error("cannot create the trajectory file '" + trajectory_file + "'");
+        trajectory_ << "# timestamp tx ty tz qx qy qz qw (T_wc of each tracked frame, as tracked on the mobile)\n";
+      }
+      if (!anchors_file.empty()) {
+        anchors_.open(anchors_file, std::ios::out | std::ios::trunc);
+        if (!anchors_) throw std::runtime_error("cannot create the anchors file '" + anchors_file + "'");
+        anchors_ << "# F <frame stamp> <reference KF id> <T_ref_c: tx ty tz qx qy qz qw>\n"
+                 << "# K <KF id> <parent KF id> <T_parent_kf: tx ty tz qx qy qz qw>   (scripts/split_trajectory.py)\n";
+      }
     } catch (const std::exception& e) {
       NODELET_FATAL("cannot start the mobile: %s", e.what());
       return;
@@ -73,30 +105,86 @@ class MobileNodelet : public nodelet::Nodelet {
     odometry_pub_ = pnh.advertise<nav_msgs::Odometry>("odometry", 10);
     path_pub_ = pnh.advertise<nav_msgs::Path>("path", 1, true);
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("local_map", 1, true);
+    marker_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true);
     state_pub_ = pnh.advertise<std_msgs::String>("state", 10, true);
+    stats_pub_ = pnh.advertise<edge_slam_msgs::Stats>("stats", 10);
     update_sub_ = nh.subscribe("map_updates", 5, &MobileNodelet::on_map_update, this);
     set_srv_ = pnh.advertiseService("set_map_updates", &MobileNodelet::on_set_map_updates, this);
     status_srv_ = pnh.advertiseService("map_update_status", &MobileNodelet::on_status, this);
     reset_srv_ = pnh.advertiseService("reset", &MobileNodelet::on_reset, this);
 
-    // Images on the single-threaded handle: frames are tracked one at a time, in order. Small
-    // queues: after a pause (an update being applied) tracking resumes with the newest frame.
-    it_ = std::make_unique<image_transport::ImageTransport>(getNodeHandle());
+    // Images and camera_info on the single-threaded handle: frames are tracked one at a time, in
+    // order, and the session is created there. Small queues: after a pause (an update being
+    // applied) tracking resumes with the newest frame.
+    ros::NodeHandle& st = getNodeHandle();
+    it_ = std::make_unique<image_transport::ImageTransport>(st);
     rgb_sub_.subscribe(*it_, "rgb/image", 2);
     depth_sub_.subscribe(*it_, "depth/image", 2);
     sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), rgb_sub_, depth_sub_);
     sync_->registerCallback(&MobileNodelet::on_rgbd, this);
-    cloud_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_local_map(); });
+    if (use_camera_info_) info_sub_ = st.subscribe("rgb/camera_info", 1, &MobileNodelet::on_camera_info, this);
+    else start_session(config_.camera, "YAML (use_camera_info is false)");
 
+    display_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_map(); });
+    stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
     running_ = true;
     sender_ = std::thread([this] { send_keyframes(); });
-    NODELET_INFO("mobile ready: camera '%s' %dx%d, Local-Map tracking, KeyFrame conditions 3-5",
-                 camera_.name.c_str(), camera_.width, camera_.height);
+    NODELET_INFO("mobile ready: Local-Map tracking, KeyFrame conditions 3-5, intrinsics from %s",
+                 use_camera_info_ ? "camera_info (YAML if none arrives)" : "YAML");
+  }
+
+  std::shared_ptr<MobileSession> session() const { return std::atomic_load(&session_); }
+
+  // Called on the image thread only (or in onInit before any callback).
+  void start_session(const edge_slam::PinholeCamera& camera, const std::string& source) {
+    try {
+      auto s = std::make_shared<MobileSession>(camera, orb_, tracking_, config_.vocabulary, session_params_,
+                                               edge_slam::RgbEncoding::kRgb);
+      camera_ = camera;
+      std::atomic_store(&session_, s);
+      NODELET_INFO("tracking with camera '%s' %dx%d fx %.2f fy %.2f cx %.2f cy %.2f from %s", camera.name.c_str(),
+                   camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy, source.c_str());
+    } catch (const std::exception& e) {
+      NODELET_FATAL("cannot start tracking: %s", e.what());
+    }
+  }
+
+  void on_camera_info(const sensor_msgs::CameraInfo::ConstPtr& info) {
+    edge_slam::PinholeCamera cam;
+    std::string error;
+    const bool ok = camera_from_info(*info, config_.camera, cam, error);
+    if (session()) {
+      if (ok && !same_intrinsics(cam, camera_) && !warned_info_change_) {
+        warned_info_change_ = true;
+        NODELET_WARN("camera_info changed after tracking started (fx %.2f vs %.2f); keeping the first calibration",
+                     cam.fx, camera_.fx);
+      }
+      return;
+    }
+    if (!ok) {
+      NODELET_ERROR("unusable camera_info (%s): using the YAML calibration", error.c_str());
+      start_session(config_.camera, "YAML (camera_info refused)");
+      return;
+    }
+    start_session(cam, "camera_info");
   }
 
   void on_rgbd(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth) {
+    auto s = session();
+    if (!s) {
+      const ros::WallTime now = ros::WallTime::now();
+      if (first_image_wall_.isZero()) first_image_wall_ = now;
+      if ((now - first_image_wall_).toSec() < camera_info_timeout_) {
+        NODELET_INFO_THROTTLE(5.0, "waiting for rgb/camera_info before tracking (at most %.1f s)", camera_info_timeout_);
+        return;
+      }
+      NODELET_WARN("no camera_info within %.1f s: using the YAML calibration", camera_info_timeout_);
+      start_session(config_.camera, "YAML (no camera_info)");
+      if (!(s = session())) return;
+    }
     ImageCheck check = convert_rgbd(*rgb, *depth, camera_, last_stamp_);
     if (!check.ok) {
+      metrics_.on_input_rejected();
       const uint64_t dropped = ++rejected_frames_;
       NODELET_ERROR_THROTTLE(5.0, "dropping camera frame (%lu dropped so far): %s", static_cast<unsigned long>(dropped),
                              check.error.c_str());
@@ -106,55 +194,100 @@ class MobileNodelet : public nodelet::Nodelet {
       std::lock_guard<std::mutex> lock(output_mutex_);
       last_stamp_ = rgb->header.stamp;
     }
-    const edge_slam::TrackingResult r = session_->track(check.rgb, check.depth, rgb->header.stamp.toSec());
+    const double stamp = rgb->header.stamp.toSec();
+    const edge_slam::TrackingResult r = s->track(check.rgb, check.depth, stamp);
     if (!r.message.empty() && r.state != edge_slam::TrackingState::kOk)
       NODELET_WARN_THROTTLE(5.0, "tracking: %s", r.message.c_str());
+    metrics_.on_frame(r.time_ms);
+    edge_slam::EventRow row;
+    row.wall_time = edge_slam::wall_clock_seconds();
+    row.data_time = stamp;
+    row.event = "frame";
+    row.seq = r.frame_id;
+    row.duration_ms = r.time_ms;
+    row.map_keyframes = static_cast<long>(s->local_map_keyframes());
+    row.detail = edge_slam::to_string(r.state);
+    events_->add(row);
     publish_state(r);
     if (r.pose_valid) publish_pose(r.T_cw.inverse(), rgb->header.stamp);
-    if (auto frame = session_->take_relocalization_frame(rgb->header.stamp.toSec()))
-      frame_pub_.publish(edge_slam::to_message(*frame));
+    write_anchors(r, stamp);
+    if (auto frame = s->take_relocalization_frame(stamp)) {
+      const edge_slam_msgs::Frame msg = edge_slam::to_message(*frame);
+      const size_t bytes = wire_size(msg);
+      frame_pub_.publish(msg);
+      metrics_.on_frame_sent(bytes);
+      log_event("frame_sent", stamp, frame->seq, bytes, -1, -1, s->local_map_keyframes(), "");
+    }
   }
 
   // Drains the outbox: tracking only ever pushes, so network trouble never stalls it.
   void send_keyframes() {
     while (running_) {
-      std::optional<edge_slam::KeyFrameRecord> record = session_->outbox().pop_for(std::chrono::milliseconds(200));
+      auto s = session();
+      if (!s) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        continue;
+      }
+      std::optional<edge_slam::KeyFrameRecord> record = s->outbox().pop_for(std::chrono::milliseconds(200));
       if (!record) continue;
-      keyframe_pub_.publish(edge_slam::to_message(*record));
+      const edge_slam_msgs::KeyFrame msg = edge_slam::to_message(*record);
+      const size_t bytes = wire_size(msg);
+      keyframe_pub_.publish(msg);
+      metrics_.on_keyframe_sent(bytes);
+      log_event("keyframe_sent", record->stamp, record->seq, bytes, -1, -1, -1, record->reset ? "reset" : "");
     }
   }
 
   void on_map_update(const edge_slam_msgs::MapUpdate::ConstPtr& msg) {
+    auto s = session();
+    if (!s) return;
+    const size_t bytes = wire_size(*msg);
     edge_slam::MapUpdateRecord update;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, update);
     if (!status.ok) {
-      session_->count_invalid_update();
+      s->count_invalid_update();
       NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed map update: %s", status.error.c_str());
       return;
     }
-    const edge_slam::UpdateOutcome out = session_->apply_update(update, ros::Time::now().toSec());
+    // Published (edge wall clock) -> received and deserialised here.
+    const double latency_ms = (edge_slam::wall_clock_seconds() - update.publish_stamp) * 1e3;
+    const edge_slam::UpdateOutcome out = s->apply_update(update, ros::Time::now().toSec());
+    const bool accepted = out.decision == edge_slam::UpdateDecision::kAccept && out.error.empty();
+    metrics_.on_update(bytes, latency_ms, accepted, out.rebuild_ms);
+    const char* kind = update.kind == edge_slam::MapUpdateKind::kRelocalization ? "relocalization" : "periodic";
+    log_event("update", ros::Time::now().toSec(), update.seq, bytes, latency_ms, accepted ? out.rebuild_ms : -1,
+              s->local_map_keyframes(), std::string(kind) + " " + (out.error.empty() ? to_string(out.decision) : "error"));
     if (!out.error.empty())
       NODELET_ERROR_THROTTLE(5.0, "map update %lu could not be applied: %s", static_cast<unsigned long>(update.seq),
                              out.error.c_str());
-    else if (out.decision == edge_slam::UpdateDecision::kAccept)
-      NODELET_INFO("applied map update %lu: %zu KeyFrames, %zu points, rebuilt in %.1f ms",
+    else if (accepted)
+      NODELET_INFO("applied %s map update %lu: %zu KeyFrames, %zu points, rebuilt in %.1f ms", kind,
                    static_cast<unsigned long>(update.seq), out.keyframes, out.map_points, out.rebuild_ms);
     else
       NODELET_DEBUG("map update %lu rejected: %s", static_cast<unsigned long>(update.seq), to_string(out.decision));
   }
 
   bool on_set_map_updates(edge_slam_msgs::SetMapUpdates::Request& req, edge_slam_msgs::SetMapUpdates::Response& res) {
-    session_->set_updates_enabled(req.enable);
+    auto s = session();
+    if (!s) {
+      res.success = false;
+      res.message = "tracking has not started yet (waiting for the first frame)";
+      return true;
+    }
+    s->set_updates_enabled(req.enable);
     res.success = true;
-    res.enabled = session_->updates_enabled();
+    res.enabled = s->updates_enabled();
     res.message = res.enabled ? "map updates enabled" : "map updates disabled";
     NODELET_INFO("map-update controller: %s", res.message.c_str());
+    log_event("controller", ros::Time::now().toSec(), 0, 0, -1, -1, -1, res.message);
     return true;
   }
 
   bool on_status(edge_slam_msgs::GetMapUpdateStatus::Request&, edge_slam_msgs::GetMapUpdateStatus::Response& res) {
-    const edge_slam::MapUpdateCounters c = session_->update_counters();
-    res.enabled = session_->updates_enabled();
+    auto s = session();
+    if (!s) return false;  // the caller sees "service call failed": not ready
+    const edge_slam::MapUpdateCounters c = s->update_counters();
+    res.enabled = s->updates_enabled();
     res.received = c.received;
     res.accepted = c.accepted;
     res.rejected_controller = c.rejected_controller;
@@ -164,13 +297,22 @@ class MobileNodelet : public nodelet::Nodelet {
     res.rejected_not_lost = c.rejected_not_lost;
     res.rejected_invalid = c.rejected_invalid;
     res.relocalization_applied = c.relocalization_applied;
-    res.local_map_keyframes = static_cast<uint32_t>(session_->local_map_keyframes());
-    res.time_constraint = session_->time_constraint();
+    res.local_map_keyframes = static_cast<uint32_t>(s->local_map_keyframes());
+    res.local_map_peak = static_cast<uint32_t>(s->local_map_peak());
+    res.local_map_cap = static_cast<uint32_t>(s->local_map_cap());
+    res.keyframes_created = static_cast<uint32_t>(s->keyframes_sent());
+    res.time_constraint = s->time_constraint();
     return true;
   }
 
   bool on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-    const bool sent = session_->reset();
+    auto s = session();
+    if (!s) {
+      res.success = false;
+      res.message = "tracking has not started yet: nothing to reset";
+      return true;
+    }
+    const bool sent = s->reset();
     {
       std::lock_guard<std::mutex> lock(output_mutex_);
       path_.poses.clear();
@@ -179,7 +321,38 @@ class MobileNodelet : public nodelet::Nodelet {
     res.message = sent ? "reset: newest KeyFrame re-sent with its reset flag; Local-Map cleared"
                        : "reset: no KeyFrame yet; Local-Map cleared";
     NODELET_WARN("%s", res.message.c_str());
+    log_event("reset", ros::Time::now().toSec(), 0, 0, -1, -1, static_cast<long>(s->local_map_keyframes()), "");
     return true;
+  }
+
+  void log_event(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms,
+                 double duration_ms, long map_keyframes, const std::string& detail) {
+    edge_slam::EventRow row;
+    row.wall_time = edge_slam::wall_clock_seconds();
+    row.data_time = data_time;
+    row.event = event;
+    row.seq = seq;
+    row.bytes = bytes;
+    row.latency_ms = latency_ms;
+    row.duration_ms = duration_ms;
+    row.map_keyframes = map_keyframes;
+    row.detail = detail;
+    events_->add(std::move(row));
+  }
+
+  // Frames relative to their reference KeyFrame and KeyFrames relative to their parent: with the
+  // edge's final KeyFrame poses these give the final trajectory (scripts/split_trajectory.py).
+  void write_anchors(const edge_slam::TrackingResult& r, double stamp) {  // image thread only
+    if (!anchors_.is_open() || !r.pose_valid) return;
+    if (r.keyframe_id != edge_slam::kNoId && r.keyframe_parent_id != edge_slam::kNoId) {
+      anchors_ << "K " << r.keyframe_id << ' ' << r.keyframe_parent_id << ' ';
+      edge_slam::write_pose_fields(anchors_, r.T_parent_kf);
+    }
+    if (r.reference_kf_id != edge_slam::kNoId) {
+      anchors_ << "F " << std::fixed << std::setprecision(6) << stamp << ' ' << r.reference_kf_id << ' ';
+      edge_slam::write_pose_fields(anchors_, r.T_ref_c);
+    }
+    if (++anchor_lines_ % 30 == 0) anchors_.flush();
   }
 
   void publish_state(const edge_slam::TrackingResult& r) {
@@ -196,42 +369,96 @@ class MobileNodelet : public nodelet::Nodelet {
     odom.child_frame_id = camera_frame_;
     odom.pose.pose = edge_slam::pose_to_message(T_wc);
     odometry_pub_.publish(odom);
+    if (trajectory_.is_open()) {  // image thread only
+      edge_slam::write_tum_pose(trajectory_, stamp.toSec(), T_wc);
+      if (++trajectory_lines_ % 30 == 0) trajectory_.flush();
+    }
     geometry_msgs::PoseStamped p;
     p.header = tf.header;
     p.pose = odom.pose.pose;
     std::lock_guard<std::mutex> lock(output_mutex_);
     path_.header = tf.header;
     path_.poses.push_back(p);
-    path_pub_.publish(path_);
+    // Bounded: the mobile's memory must stay flat on long runs.
+    if (static_cast<int>(path_.poses.size()) > path_max_poses_) path_.poses.erase(path_.poses.begin());
+    if (++path_counter_ % 5 == 0) path_pub_.publish(path_);  // 6 Hz at 30 fps is plenty for rviz
   }
 
-  void publish_local_map() {
-    if (!session_ || cloud_pub_.getNumSubscribers() == 0) return;
+  void publish_map() {
+    auto s = session();
+    if (!s) return;
     ros::Time stamp;
     {
       std::lock_guard<std::mutex> lock(output_mutex_);
       stamp = last_stamp_;
     }
-    cloud_pub_.publish(edge_slam::to_point_cloud(session_->local_map()->map_points(), map_frame_, stamp));
+    const auto map = s->local_map();
+    if (cloud_pub_.getNumSubscribers() > 0)
+      cloud_pub_.publish(edge_slam::to_point_cloud(map->map_points(), map_frame_, stamp));
+    if (marker_pub_.getNumSubscribers() > 0)
+      marker_pub_.publish(edge_slam::keyframe_markers(map->keyframes(), map_frame_, stamp, "local_map", 0.2f, 0.5f, 1.0f));
   }
 
-  edge_slam::PinholeCamera camera_;
-  std::unique_ptr<MobileSession> session_;
-  std::string map_frame_, camera_frame_;
-  std::mutex output_mutex_;  // last_stamp_ and path_: image callback vs services and timers
+  void publish_stats() {
+    auto s = session();
+    if (!s) return;
+    edge_slam_msgs::Stats m = metrics_.stats(*s);
+    m.header.stamp = ros::Time::now();
+    stats_pub_.publish(m);
+    events_->flush();
+    write_outputs();
+  }
+
+  // metrics.json: rewritten every second and at shutdown, so a killed run still leaves one.
+  void write_outputs() {
+    auto s = session();
+    if (!s || metrics_file_.empty()) return;
+    std::lock_guard<std::mutex> lock(write_mutex_);
+    try {
+      metrics_.json(*s, dataset_).write(metrics_file_);
+    } catch (const std::exception& e) {
+      NODELET_ERROR_THROTTLE(30.0, "%s", e.what());
+    }
+  }
+
+  // Configuration (read once in onInit).
+  edge_slam::NodeConfig config_;
+  edge_slam::TrackingParams tracking_;
+  edge_slam::OrbParams orb_;
+  edge_slam::MobileSessionParams session_params_;
+  std::string map_frame_, camera_frame_, metrics_file_, dataset_;
+  bool use_camera_info_ = true;
+  double camera_info_timeout_ = 2.0;
+  int path_max_poses_ = 20000;
+
+  // Set once on the image thread, read everywhere through session().
+  std::shared_ptr<MobileSession> session_;
+  edge_slam::PinholeCamera camera_;  // image thread only
+  ros::WallTime first_image_wall_;   // image thread only
+  bool warned_info_change_ = false;  // image thread only
+
+  MobileMetrics metrics_;
+  std::unique_ptr<edge_slam::EventLog> events_;
+  std::ofstream trajectory_;  // image thread only (flushed there every 30 poses)
+  uint64_t trajectory_lines_ = 0;
+  std::ofstream anchors_;     // image thread only
+  uint64_t anchor_lines_ = 0;
+  std::mutex write_mutex_;    // metrics.json writers (timer, destructor)
+  std::mutex output_mutex_;   // last_stamp_ and path_: image callback vs services and timers
   ros::Time last_stamp_;
+  nav_msgs::Path path_;
+  uint64_t path_counter_ = 0;
   std::atomic<uint64_t> rejected_frames_{0};
   std::atomic<bool> running_{false};
   std::thread sender_;
-  nav_msgs::Path path_;
 
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::SubscriberFilter rgb_sub_, depth_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
-  ros::Publisher keyframe_pub_, frame_pub_, odometry_pub_, path_pub_, cloud_pub_, state_pub_;
-  ros::Subscriber update_sub_;
+  ros::Publisher keyframe_pub_, frame_pub_, odometry_pub_, path_pub_, cloud_pub_, marker_pub_, state_pub_, stats_pub_;
+  ros::Subscriber update_sub_, info_sub_;
   ros::ServiceServer set_srv_, status_srv_, reset_srv_;
-  ros::WallTimer cloud_timer_;
+  ros::WallTimer display_timer_, stats_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 };
 

@@ -5,6 +5,8 @@
 #include <edge_slam_bridge/pose_conversion.h>
 #include <ros/serialization.h>
 
+#include <cmath>
+
 #include "feature_packing.h"
 
 namespace edge_slam {
@@ -16,6 +18,7 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   msg.id = r.id;
   msg.frame_id = r.frame_id;
   msg.stamp = ros::Time(r.stamp);
+  msg.created_wall = r.created_wall;
   msg.reset = r.reset;
   msg.pose = pose_to_message(r.T_wc);
   packing::pack_camera_and_features(r.camera, r.features, msg);
@@ -93,10 +96,12 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   }
   if (msg.parent_id == msg.id) return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + " is its own parent");
 
+  if (!std::isfinite(msg.created_wall)) return DecodeStatus::failure("created_wall is not finite");
   r.seq = msg.seq;
   r.id = msg.id;
   r.frame_id = msg.frame_id;
   r.stamp = msg.stamp.toSec();
+  r.created_wall = msg.created_wall;
   r.reset = msg.reset;
   r.parent_id = msg.parent_id;
   // The remaining record-level rules (one point per keypoint, unique links, ranges) are the

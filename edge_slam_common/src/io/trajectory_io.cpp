@@ -7,11 +7,16 @@
 
 namespace edge_slam {
 
+void write_pose_fields(std::ostream& out, const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.rotation());
+  const Eigen::Vector3d t = T.translation();
+  out << std::fixed << std::setprecision(7) << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y()
+      << ' ' << q.z() << ' ' << q.w() << '\n';
+}
+
 void write_tum_pose(std::ostream& out, double stamp, const Eigen::Isometry3d& T_wc) {
-  const Eigen::Quaterniond q(T_wc.rotation());
-  const Eigen::Vector3d t = T_wc.translation();
-  out << std::fixed << std::setprecision(6) << stamp << std::setprecision(7) << ' ' << t.x() << ' '
-      << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+  out << std::fixed << std::setprecision(6) << stamp << ' ';
+  write_pose_fields(out, T_wc);
 }
 
 void write_tum_trajectory(const std::string& path,

@@ -28,6 +28,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.min_frames_after_relocalization = cfg.get_int_or("tracking/min_frames_after_relocalization", 20, 0, 100000);
   p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 1, 100000);  // as tracking reads it
+  p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
   return p;
 }
 
@@ -47,6 +48,10 @@ EdgeSession::~EdgeSession() { stop_modules(); }
 
 void EdgeSession::start_modules() {
   mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary_, params_.mapping);
+  mapping_->on_keyframes_culled = [this](const std::vector<uint32_t>& ids) {
+    std::lock_guard<std::mutex> lock(culled_mutex_);
+    culled_ids_.insert(culled_ids_.end(), ids.begin(), ids.end());
+  };
   if (params_.loop_closing) {
     loop_ = std::make_unique<LoopClosing>(map_, database_, mapping_.get(), params_.loop);
     mapping_->on_keyframe_processed = [this](const std::shared_ptr<KeyFrame>& kf) { loop_->insert_keyframe(kf); };
@@ -114,6 +119,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
   }
   mapping_->insert_keyframe(kf);
   inserted_.push_back(kf->id());
+  accepted_ids_.push_back(kf->id());
   if (inserted_.size() > 1000) inserted_.pop_front();
   last_inserted_frame_id_ = r.frame_id;
   any_inserted_ = true;
@@ -172,10 +178,10 @@ std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const Fr
   auto include = [&](const std::shared_ptr<KeyFrame>& kf) {
     if (kf && !kf->is_bad() && included.insert(kf->id()).second) kfs.push_back(kf);
   };
-  for (const auto& c : candidates) {
-    include(c);
+  for (const auto& c : candidates) include(c);  // candidates first: they survive the cap
+  for (const auto& c : candidates)
     for (uint32_t id : c->best_covisibles(params_.neighbours_per_candidate)) include(map_->keyframe(id));
-  }
+  if (kfs.size() > params_.max_update_keyframes) kfs.resize(params_.max_update_keyframes);
   MapUpdateRecord u = pack_update(kfs);
   u.kind = MapUpdateKind::kRelocalization;
   u.seq = next_update_seq_++;
@@ -194,6 +200,11 @@ void EdgeSession::reset_locked() {
   database_->clear();
   inserted_.clear();
   seen_ids_.clear();
+  accepted_ids_.clear();
+  {
+    std::lock_guard<std::mutex> culled_lock(culled_mutex_);
+    culled_ids_.clear();
+  }
   any_inserted_ = false;
   relocalization_sent_ = false;
   start_modules();
@@ -251,7 +262,52 @@ EdgeCounters EdgeSession::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return counters_;
 }
-int EdgeSession::loops_closed() const { return loop_ ? loop_->loops_closed() : 0; }
-bool EdgeSession::mapping_idle() const { return mapping_->idle(); }
+// The modules are replaced on a reset (under mutex_), so every reader of them takes mutex_.
+std::vector<LoopEvent> EdgeSession::loops() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return loop_ ? loop_->loops() : std::vector<LoopEvent>{};
+}
+
+EdgeTimings EdgeSession::timings() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  EdgeTimings t;
+  t.mapping = mapping_->stats();
+  t.local_mapping_ms = mapping_->process_times_ms();
+  t.local_ba_ms = mapping_->local_ba_times_ms();
+  if (loop_) {
+    t.loop_detection_ms = loop_->detection_times_ms();
+    t.loop_correction_ms = loop_->correction_times_ms();
+    t.full_ba_ms = loop_->full_ba_times_ms();
+    t.full_ba_runs = loop_->full_ba_runs();
+  }
+  return t;
+}
+
+KeyFrameAccount EdgeSession::keyframe_account() const {
+  KeyFrameAccount a;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    a.inserted = accepted_ids_;
+  }
+  // The map before the culled list: a KeyFrame culled in between shows up in both, never in neither.
+  for (const auto& kf : map_->keyframes()) a.in_map.push_back(kf->id());
+  {
+    std::lock_guard<std::mutex> lock(culled_mutex_);
+    a.culled = culled_ids_;
+  }
+  std::sort(a.inserted.begin(), a.inserted.end());
+  std::sort(a.culled.begin(), a.culled.end());
+  std::sort(a.in_map.begin(), a.in_map.end());
+  return a;
+}
+
+int EdgeSession::loops_closed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return loop_ ? loop_->loops_closed() : 0;
+}
+bool EdgeSession::mapping_idle() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return mapping_->idle();
+}
 
 }  // namespace edge_slam

@@ -158,6 +158,7 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     fused = fuse_with_neighbours(*map_, kf);
   }
   bool stop_requested;
+  std::vector<uint32_t> culled_ids;
   {
     std::lock_guard<std::mutex> lock(pause_mutex_);
     stop_requested = stop_requested_;
@@ -166,9 +167,10 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     if (params_.local_ba && map_->num_keyframes() > 2) run_local_ba(kf);
     if (params_.cull_keyframes) {
       std::lock_guard<std::mutex> lock(map_->update_mutex());
-      kf_culled = cull_redundant_keyframes(*map_, database_.get(), *kf, params_.keyframe_culling);
+      kf_culled = cull_redundant_keyframes(*map_, database_.get(), *kf, params_.keyframe_culling, &culled_ids);
     }
   }
+  if (on_keyframes_culled && !culled_ids.empty()) on_keyframes_culled(culled_ids);
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     ++stats_.keyframes_processed;
@@ -191,6 +193,9 @@ void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
   }
   if (problem.keyframes.empty()) return;
   LocalBaOptions options;
+  options.first_pass_iterations = params_.ba_first_pass_iterations;
+  options.second_pass_iterations = params_.ba_second_pass_iterations;
+  options.num_threads = params_.ba_num_threads;
   options.abort = &abort_ba_;
   const BundleAdjustmentResult result = run_local_bundle_adjustment(problem, options);
   if (result.ok) {

@@ -1,11 +1,14 @@
 #include "edge_slam/module/mobile_session.h"
 
+#include <algorithm>
 #include <chrono>
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
+#include "edge_slam/module/local_map_cap.h"
+#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
@@ -14,8 +17,21 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.policy.initial_time_constraint = cfg.get_double_or("edge_slam/initial_time_constraint", 0.3, 0.0, 60.0);
   p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
+  // At least one update's worth, or an accepted update would be cut down at once.
+  p.reference_min_observations = cfg.get_int_or("edge_slam/mobile_reference_min_observations", 3, 1, 100);
+  p.ref_ratio = cfg.get_double_or("edge_slam/mobile_ref_ratio", 1.0, 0.05, 2.0);
+  p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   return p;
 }
+
+namespace {
+TrackingParams mobile_tracking_params(TrackingParams t, const MobileSessionParams& p) {
+  t.conditions = KeyFrameConditionSet::kMobile;
+  t.reference_min_observations = p.reference_min_observations;
+  t.keyframe.ref_ratio = p.ref_ratio;
+  return t;
+}
+}  // namespace
 
 MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
                              std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
@@ -27,7 +43,7 @@ MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, 
       map_(std::make_shared<Map>()),
       database_(std::make_shared<KeyFrameDatabase>()),
       outbox_(params.outbox_capacity),
-      tracking_(camera, orb, tracking, map_, database_, vocabulary, encoding),
+      tracking_(camera, orb, mobile_tracking_params(tracking, params), map_, database_, vocabulary, encoding),
       policy_(params.policy) {
   map_->set_map_point_id_space(kMobilePointIdFirst, kEdgePointIdFirst);
   // Runs inside track(), with mutex_ held.
@@ -44,16 +60,40 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   KeyFrameRecord record = to_record(*kf, *map_, created);
   record.seq = next_keyframe_seq_++;
+  record.created_wall = wall_clock_seconds();
   newest_keyframe_ = record;
+  newest_created_ = kf;
   outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
   last_keyframe_stamp_ = kf->stamp();
   keyframe_since_update_ = true;
+  dropped_by_cap_ += enforce_local_map_cap(*map_, database_.get(), params_.local_map_cap,
+                                           {kf->id(), tracking_.reference_keyframe_id()}).size();
+  note_local_map_size();
+}
+
+void MobileSession::note_local_map_size() {
+  local_map_peak_ = std::max(local_map_peak_, map_->num_keyframes());
 }
 
 TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, double stamp) {
   std::lock_guard<std::mutex> lock(mutex_);
   last_stamp_ = stamp;
-  return tracking_.track_rgbd(color, depth, stamp);
+  newest_created_.reset();
+  TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
+  if (!r.pose_valid) return r;
+  if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id())) {
+    r.reference_kf_id = ref->id();
+    r.T_ref_c = ref->T_cw() * r.T_cw.inverse();
+  }
+  if (newest_created_) {
+    r.keyframe_id = newest_created_->id();
+    r.keyframe_parent_id = newest_created_->parent_id();
+    if (const auto parent = map_->keyframe(r.keyframe_parent_id))
+      r.T_parent_kf = parent->T_cw() * newest_created_->T_wc();
+    else
+      r.keyframe_parent_id = kNoId;
+  }
+  return r;
 }
 
 UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double now) {
@@ -83,6 +123,7 @@ UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double 
     if (kf->has_bow()) database_->add(kf);
   tracking_.relink_after_map_update();
   keyframe_since_update_ = false;
+  note_local_map_size();
   out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -99,7 +140,9 @@ std::optional<FrameRecord> MobileSession::take_relocalization_frame(double now) 
   const Frame& f = tracking_.last_frame();
   if (!f.features || f.size() == 0) return std::nullopt;
   last_relocalization_frame_time_ = now;
-  return to_record(f, next_frame_seq_++);
+  FrameRecord r = to_record(f, next_frame_seq_++);
+  r.created_wall = wall_clock_seconds();
+  return r;
 }
 
 bool MobileSession::reset() {
@@ -139,6 +182,14 @@ TrackingState MobileSession::state() const {
 TrackingCounters MobileSession::tracking_counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return tracking_.counters();
+}
+size_t MobileSession::local_map_peak() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return local_map_peak_;
+}
+uint64_t MobileSession::keyframes_dropped_by_cap() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return dropped_by_cap_;
 }
 uint64_t MobileSession::keyframes_sent() const {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -27,7 +27,10 @@ struct PixelMeasurement {
 
 // Residual blocks take parameters (quaternion xyzw [4], translation [3], point_world [3]) for
 // the pose T_cw = (q, t). Residuals are whitened by sqrt(inv_sigma2), so their squared norm is chi2.
+// Always three residuals (the monocular term's third is a constant 0), see reprojection_cost.cpp.
 ceres::CostFunction* make_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m);
+// The same residual by automatic differentiation: the reference the analytic Jacobians are tested against.
+ceres::CostFunction* make_reprojection_cost_autodiff(const PinholeCamera& cam, const PixelMeasurement& m);
 
 // Same residual over (quaternion [4], translation [3]) only, the point being a known constant.
 ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,

@@ -9,6 +9,8 @@
 namespace edge_slam {
 
 void write_tum_pose(std::ostream& out, double stamp, const Eigen::Isometry3d& T_wc);
+// "tx ty tz qx qy qz qw\n" of a pose (the TUM line without its stamp).
+void write_pose_fields(std::ostream& out, const Eigen::Isometry3d& T);
 // Writes all poses; throws std::runtime_error if the file cannot be written.
 void write_tum_trajectory(const std::string& path,
                           const std::vector<std::pair<double, Eigen::Isometry3d>>& poses_wc);

@@ -44,6 +44,7 @@ struct KeyFrameRecord {
   uint32_t id = kNoId;
   uint32_t frame_id = kNoId;
   double stamp = 0;
+  double created_wall = 0;  // mobile wall clock at creation (transmit latency)
   bool reset = false;
   Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();  // camera pose in the map
   CameraRecord camera;
@@ -58,6 +59,7 @@ struct FrameRecord {
   uint64_t seq = 0;
   uint32_t id = kNoId;
   double stamp = 0;
+  double created_wall = 0;  // mobile wall clock when processed
   CameraRecord camera;
   FeatureRecord features;
 };

@@ -28,12 +28,26 @@ struct EdgeSessionParams {
   int min_frames_after_relocalization = 20; // condition 1
   int max_frames_between_keyframes = 20;    // condition 2 (or Local-Mapping idle)
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
+  size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
   bool loop_closing = true;
   LocalMappingParams mapping;
   LoopClosingParams loop;
 };
 // "edge_slam:" and "tracking:" sections of config/slam.yaml.
 EdgeSessionParams load_edge_session_params(const ConfigMap& cfg);
+
+// Where every KeyFrame accepted since the last reset went: still in the Global-Map, or culled
+// as redundant by Local-Mapping. Nothing else may happen to one (a lost KeyFrame is a bug).
+struct KeyFrameAccount {
+  std::vector<uint32_t> inserted, culled, in_map;  // sorted ids
+};
+
+// Per-call module timings (ms) since the last reset, for metrics.json and the stats topic.
+struct EdgeTimings {
+  LocalMappingStats mapping;
+  std::vector<double> local_mapping_ms, local_ba_ms, loop_detection_ms, loop_correction_ms, full_ba_ms;
+  int full_ba_runs = 0;
+};
 
 enum class KeyFrameVerdict { kInserted, kDuplicate, kRejectedAfterRelocalization, kRejectedMapperBusy, kInvalid, kReset };
 const char* to_string(KeyFrameVerdict v);
@@ -68,7 +82,10 @@ class EdgeSession {
   EdgeCounters counters() const;
   std::shared_ptr<const Map> global_map() const { return map_; }
   int loops_closed() const;
+  std::vector<LoopEvent> loops() const;
+  KeyFrameAccount keyframe_account() const;
   bool mapping_idle() const;
+  EdgeTimings timings() const;
 
  private:
   void start_modules();
@@ -88,6 +105,9 @@ class EdgeSession {
   mutable std::mutex mutex_;  // receive / build / reset
   std::deque<uint32_t> inserted_;        // KeyFrame ids in insertion order
   std::unordered_set<uint32_t> seen_ids_;
+  std::vector<uint32_t> accepted_ids_;     // since the last reset
+  mutable std::mutex culled_mutex_;        // culled_ids_ is written by the Local-Mapping thread
+  std::vector<uint32_t> culled_ids_;
   uint64_t last_inserted_frame_id_ = 0;
   bool any_inserted_ = false;
   uint64_t last_relocalization_frame_id_ = 0;

@@ -3,6 +3,7 @@
 // least 3 other keyframes at the same or a finer pyramid level (+1). The map's root and
 // keyframes with loop edges are kept; the spanning tree is repaired by cull_keyframe.
 #pragma once
+#include <vector>
 #include <memory>
 
 #include "edge_slam/data/keyframe.h"
@@ -19,9 +20,9 @@ struct KeyFrameCullingParams {
 // True when `kf`'s points are redundant by the rule above.
 bool is_redundant_keyframe(const Map& map, const KeyFrame& kf, const KeyFrameCullingParams& params = {});
 
-// Checks the covisible keyframes of `kf` and culls the redundant ones; returns how many.
-// The caller holds Map::update_mutex().
+// Checks the covisible keyframes of `kf` and culls the redundant ones; returns how many and
+// appends their ids to `culled_ids` when given. The caller holds Map::update_mutex().
 int cull_redundant_keyframes(Map& map, KeyFrameDatabase* database, const KeyFrame& kf,
-                             const KeyFrameCullingParams& params = {});
+                             const KeyFrameCullingParams& params = {}, std::vector<uint32_t>* culled_ids = nullptr);
 
 }  // namespace edge_slam

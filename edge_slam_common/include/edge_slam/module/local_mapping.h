@@ -19,23 +19,13 @@
 #include "edge_slam/data/keyframe.h"
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
-#include "edge_slam/module/keyframe_culling.h"
+#include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/map_point_culling.h"
-#include "edge_slam/module/triangulation.h"
 #include "edge_slam/util/bounded_queue.h"
 
 namespace edge_slam {
 
 class BowVocabulary;
-
-struct LocalMappingParams {
-  MapPointCullingParams point_culling;
-  TriangulationParams triangulation;
-  KeyFrameCullingParams keyframe_culling;
-  bool local_ba = true;
-  bool cull_keyframes = true;
-  size_t queue_capacity = 1000;  // large: an evicted keyframe would never be processed
-};
 
 struct LocalMappingStats {
   int keyframes_processed = 0;
@@ -78,6 +68,8 @@ class LocalMapping {
   // Keyframe condition 2 (Tracking::set_mapper_idle) and the loop closer's input.
   std::function<void(bool idle)> on_idle_changed;
   std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_processed;
+  // Ids of the keyframes culled as redundant (the edge accounts for every KeyFrame it accepted).
+  std::function<void(const std::vector<uint32_t>&)> on_keyframes_culled;
 
   LocalMappingStats stats() const;
   std::vector<double> process_times_ms() const;  // whole keyframe processing

@@ -24,6 +24,15 @@ struct MobileSessionParams {
   MapUpdatePolicyParams policy;             // ITC 300 ms, LMU 6
   double relocalization_frame_period = 0.5; // seconds between Frames sent while lost
   size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender
+  size_t local_map_cap = 50;                // KeyFrames kept in the Local-Map (oldest dropped beyond)
+  // Condition 4 counts the reference KeyFrame's points seen by at least this many KeyFrames
+  // (an RGB-D observation counts twice, as in ORB-SLAM2). With no Local-Mapping on the mobile to
+  // add observations, 2 would count every point the reference just created and ask for a
+  // KeyFrame at every frame; 3 is ORB-SLAM2's value.
+  int reference_min_observations = 3;
+  // ... and a KeyFrame is made when the frame tracks fewer than ref_ratio x those points. They
+  // exclude the points the reference itself created, which the frame does track: hence 1.0, not 0.9.
+  double ref_ratio = 1.0;
 };
 
 class ConfigMap;
@@ -40,6 +49,7 @@ struct UpdateOutcome {
 
 class MobileSession {
  public:
+  // Tracking runs with KeyFrame conditions 3-5 only (1-2 are the edge's, paper 4.4).
   MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
                 std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
                 RgbEncoding encoding = RgbEncoding::kRgb);
@@ -55,11 +65,15 @@ class MobileSession {
   bool reset();
 
   BoundedQueue<KeyFrameRecord>& outbox() { return outbox_; }
+  size_t outbox_size() const { return outbox_.size(); }
   void set_updates_enabled(bool enabled);
   bool updates_enabled() const;
   MapUpdateCounters update_counters() const;
   double time_constraint() const;
   size_t local_map_keyframes() const { return map_->num_keyframes(); }
+  size_t local_map_peak() const;           // most KeyFrames the Local-Map ever held
+  size_t local_map_cap() const { return params_.local_map_cap; }
+  uint64_t keyframes_dropped_by_cap() const;
   size_t local_map_points() const { return map_->num_map_points(); }
   TrackingState state() const;
   TrackingCounters tracking_counters() const;
@@ -68,6 +82,7 @@ class MobileSession {
 
  private:
   void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  void note_local_map_size();
 
   PinholeCamera camera_;
   std::shared_ptr<const BowVocabulary> vocabulary_;
@@ -87,6 +102,9 @@ class MobileSession {
   uint64_t next_frame_seq_ = 1;
   double last_relocalization_frame_time_ = -1e300;
   std::optional<KeyFrameRecord> newest_keyframe_;
+  std::shared_ptr<KeyFrame> newest_created_;  // made during the current track() call
+  size_t local_map_peak_ = 0;
+  uint64_t dropped_by_cap_ = 0;
 };
 
 }  // namespace edge_slam

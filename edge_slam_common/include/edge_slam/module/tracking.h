@@ -43,6 +43,13 @@ struct TrackingResult {
   double time_ms = 0;             // wall time: frame construction (ORB) + tracking
   double cpu_ms = 0;              // CPU time of this thread for the same work
   std::string message;            // why tracking failed / the input was rejected
+  // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
+  // optimised KeyFrames, as ORB-SLAM2 saves its trajectory): the reference KeyFrame and the
+  // frame's pose relative to it; for a new KeyFrame, its spanning-tree parent and pose relative to it.
+  uint32_t reference_kf_id = kNoId;
+  Eigen::Isometry3d T_ref_c = Eigen::Isometry3d::Identity();
+  uint32_t keyframe_id = kNoId, keyframe_parent_id = kNoId;
+  Eigen::Isometry3d T_parent_kf = Eigen::Isometry3d::Identity();
 };
 
 struct TrackingCounters {
@@ -80,6 +87,7 @@ class Tracking {
   const std::vector<double>& frame_times_ms() const { return times_ms_; }      // wall
   const std::vector<double>& frame_cpu_times_ms() const { return cpu_times_ms_; }
   const Frame& last_frame() const { return last_frame_; }
+  uint32_t reference_keyframe_id() const { return reference_kf_ ? reference_kf_->id() : kNoId; }
   const OrbExtractor& extractor() const { return extractor_; }
   // Forget everything (map and database included): back to NOT_INITIALIZED.
   void reset();

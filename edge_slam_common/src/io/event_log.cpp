@@ -1,0 +1,46 @@
+#include "edge_slam/io/event_log.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <stdexcept>
+
+namespace edge_slam {
+
+const char* EventLog::header() {
+  return "wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail";
+}
+
+EventLog::EventLog(const std::string& path) {
+  if (path.empty()) return;
+  file_.open(path, std::ios::out | std::ios::trunc);
+  if (!file_) throw std::runtime_error("cannot create the statistics file '" + path + "'");
+  file_ << header() << '\n';
+  file_.flush();
+  enabled_ = true;
+}
+
+EventLog::~EventLog() { flush(); }
+
+void EventLog::add(EventRow row) {
+  if (!enabled_) return;
+  std::replace(row.detail.begin(), row.detail.end(), ',', ';');  // keep the CSV well-formed
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_.push_back(std::move(row));
+}
+
+void EventLog::flush() {
+  if (!enabled_) return;
+  std::vector<EventRow> rows;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    rows.swap(pending_);
+  }
+  file_ << std::fixed;
+  for (const EventRow& r : rows)
+    file_ << std::setprecision(6) << r.wall_time << ',' << r.data_time << ',' << r.event << ',' << r.seq << ','
+          << r.bytes << ',' << std::setprecision(3) << r.latency_ms << ',' << r.duration_ms << ','
+          << r.map_keyframes << ',' << r.detail << '\n';
+  file_.flush();
+}
+
+}  // namespace edge_slam

@@ -1,0 +1,58 @@
+#!/usr/bin/python3
+"""rostest: the embedded bag through the mobile + edge nodelets (paper 5.1 setting).
+The mobile tracks on its Local-Map to < 2 cm ATE, applies >= 4 Local-Map updates, never holds
+more than its cap of KeyFrames; the edge closes the loop and accounts for every KeyFrame it
+accepted (in the Global-Map, or culled as redundant by Local-Mapping)."""
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+from std_msgs.msg import String
+
+from split_test_support import SplitSystem, ate_rmse, repo_root
+
+
+class SplitPipelineTest(unittest.TestCase):
+    def test_embedded_bag_through_mobile_and_edge(self):
+        root = repo_root()
+        loops = []
+        rospy.Subscriber('/edge_slam/edge/loops', String, lambda m: loops.append(m.data))
+        system = SplitSystem()
+        system.wait_for_bag_end()
+        system.wait_for_edge_settled()
+
+        rmse, matched = ate_rmse(system.poses, os.path.join(root, 'bags', 'synthetic_room', 'groundtruth.txt'))
+        mobile = system.mobile_status()
+        edge = system.edge_status()
+        print('ATE %.2f cm over %d poses; updates received %d accepted %d (rejected: controller %d, '
+              'initialising %d, redundant %d, rate %d); Local-Map peak %d / cap %d; edge inserted %d, culled %d, '
+              'in Global-Map %d, loops %d' % (
+                  rmse * 100, matched, mobile.received, mobile.accepted, mobile.rejected_controller,
+                  mobile.rejected_initializing, mobile.rejected_redundant, mobile.rejected_keyframe_rate,
+                  mobile.local_map_peak, mobile.local_map_cap, edge.inserted, len(edge.culled_ids),
+                  len(edge.global_map_ids), edge.loops_closed), file=sys.stderr)
+
+        self.assertGreater(matched, 300, 'the mobile must track most of the 901 frames')
+        self.assertLess(rmse, 0.02, 'mobile trajectory ATE RMSE %.2f cm' % (rmse * 100))
+        self.assertGreaterEqual(mobile.accepted, 4)
+        self.assertLessEqual(mobile.local_map_peak, 50)
+        self.assertLessEqual(system.local_map_max, 50)
+        self.assertGreater(system.stats_seen, 10, 'the mobile publishes ~stats every second')
+
+        inserted, culled, in_map = set(edge.inserted_ids), set(edge.culled_ids), set(edge.global_map_ids)
+        self.assertGreater(len(inserted), 20)
+        self.assertEqual(len(inserted), edge.inserted, 'the id list matches the counter')
+        self.assertEqual(inserted - in_map - culled, set(), 'accepted KeyFrames missing from the Global-Map')
+        self.assertEqual(in_map & culled, set(), 'a culled KeyFrame is still in the Global-Map')
+        self.assertTrue(culled <= inserted)
+
+        self.assertGreaterEqual(edge.loops_closed, 1, 'the loop back to the start is closed on the edge')
+        system.wait_until(lambda: loops, 5, 'a message on ~loops')
+        self.assertIn('loop closed: KeyFrame', loops[0])
+
+
+if __name__ == '__main__':
+    rospy.init_node('split_pipeline_check')
+    rostest.rosrun('edge_slam_tests', 'split_pipeline', SplitPipelineTest)
