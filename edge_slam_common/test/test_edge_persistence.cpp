@@ -90,6 +90,11 @@ TEST(EdgePersistence, RestartedEdgeContinuesTheSameMap) {
   }
   EXPECT_EQ(after->next_map_point_id(), before->next_map_point_id()) << "edge point ids continue, never reused";
   EXPECT_EQ(restarted.counters().last_seq, mobile.sent.size()) << "the acknowledgement survives the restart";
+  const KeyFrameAccount account_before = edge.keyframe_account(), account_after = restarted.keyframe_account();
+  EXPECT_EQ(account_after.inserted, account_before.inserted);
+  EXPECT_EQ(account_after.culled, account_before.culled);
+  EXPECT_EQ(account_after.in_map, account_before.in_map);
+  EXPECT_EQ(account_after.inserted.size(), mobile.sent.size());
   // The mobile resends what it has no acknowledgement for: the restarted edge knows it already.
   EXPECT_EQ(restarted.receive_keyframe(mobile.sent[3]), KeyFrameVerdict::kDuplicate);
   // The KeyFrame database came back too: a Frame equal to KeyFrame 2 finds candidates.

@@ -67,6 +67,9 @@ TEST(MapFile, RoundTripThroughAFileGivesTheSameMap) {
   const SavedMap a;
   MapSnapshot saved = snapshot_map(a.map);
   saved.last_keyframe_seq = 77;
+  saved.received_keyframe_ids = {0, 1, 2, 3, 4, 5, 9};
+  saved.inserted_keyframe_ids = {0, 1, 2, 3, 4, 5};
+  saved.culled_keyframe_ids = {7};
   const std::string path = temp_path("roundtrip.esmap");
   write_map_file(saved, path);
   std::ifstream tmp(path + ".tmp." + std::to_string(::getpid()));
@@ -75,6 +78,9 @@ TEST(MapFile, RoundTripThroughAFileGivesTheSameMap) {
   const MapSnapshot loaded = read_map_file(path);
   std::remove(path.c_str());
   EXPECT_EQ(loaded.last_keyframe_seq, 77u);
+  EXPECT_EQ(loaded.received_keyframe_ids, saved.received_keyframe_ids);
+  EXPECT_EQ(loaded.inserted_keyframe_ids, saved.inserted_keyframe_ids);
+  EXPECT_EQ(loaded.culled_keyframe_ids, saved.culled_keyframe_ids);
   const MapObjects objects = map_objects_from_snapshot(loaded, a.camera, a.pyramid, nullptr);
   Map b;
   KeyFrameDatabase database;

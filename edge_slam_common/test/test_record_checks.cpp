@@ -47,6 +47,7 @@ TEST(RecordChecks, GoodRecordsPass) {
 TEST(RecordChecks, KeyFrameFieldsAreEachChecked) {
   expect_rejected([](KeyFrameRecord& r) { r.id = kNoId; }, "reserved id", "reserved");
   expect_rejected([](KeyFrameRecord& r) { r.stamp = NAN; }, "stamp", "stamp");
+  expect_rejected([](KeyFrameRecord& r) { r.created_wall = INFINITY; }, "created_wall", "created_wall");
   expect_rejected([](KeyFrameRecord& r) { r.T_wc.translation().x() = INFINITY; }, "pose", "pose");
   expect_rejected([](KeyFrameRecord& r) { r.T_wc.translation().y() = 1e9; }, "far pose", "range");
   expect_rejected([](KeyFrameRecord& r) { r.T_wc.linear() *= 2.0; }, "scaled rotation", "rotation");

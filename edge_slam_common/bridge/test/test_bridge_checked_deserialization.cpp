@@ -23,9 +23,9 @@ std::vector<uint8_t> bytes_of(const Msg& msg) {
 // wire_layout.h follows these definitions field by field: when a .msg file changes, its
 // MD5 changes and this test says to update the walk (then the sums here).
 TEST(CheckedDeserialization, WalkMatchesTheMessageDefinitions) {
-  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::KeyFrame>::value(), "a6b2bbca0aa8668e26192e5d90bf81e3");
-  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::Frame>::value(), "0473ea7a82fb26267da5765d2b1d6720");
-  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::MapUpdate>::value(), "a1e2f087515de46f96ad1aa71cff909b");
+  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::KeyFrame>::value(), "51783ecb4b242b7aa0b4ab1b1dda16b4");
+  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::Frame>::value(), "35291f199858711915079bcca998d144");
+  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::MapUpdate>::value(), "b23be2fda969bd420c2018e0bbfca7f6");
 }
 
 TEST(CheckedDeserialization, ValidBytesComeBackEqual) {
@@ -62,10 +62,10 @@ TEST(CheckedDeserialization, TruncatedPaddedAndLyingBytesAreRefused) {
   DecodeStatus s = deserialize_checked(padded.data(), padded.size(), out);
   EXPECT_NE(s.error.find("trailing"), std::string::npos) << s.error;
 
-  // kp_xy's length field (after 82 fixed bytes and the camera name) claims 2^31 elements:
+  // kp_xy's length field (after 90 fixed bytes and the camera name) claims 2^31 elements:
   // roscpp alone would try to allocate 4 GiB here.
   std::vector<uint8_t> lying = good;
-  const size_t name_length_at = 1 + 8 + 4 + 4 + 8 + 1 + 56;
+  const size_t name_length_at = 1 + 8 + 4 + 4 + 8 + 8 + 1 + 56;
   uint32_t name_length = 0;
   std::memcpy(&name_length, &lying[name_length_at], 4);
   const size_t kp_xy_at = name_length_at + 4 + name_length + 48;

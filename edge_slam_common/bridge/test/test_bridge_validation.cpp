@@ -46,6 +46,7 @@ TEST(BridgeValidation, GoodMessagesDecode) {
 TEST(BridgeValidation, KeyFrameHeaderPoseAndCamera) {
   kf_rejected([](KfMsg& m) { m.version = 2; }, "version");
   kf_rejected([](KfMsg& m) { m.id = kNoId; }, "reserved");
+  kf_rejected([](KfMsg& m) { m.created_wall = NAN; }, "created_wall");
   kf_rejected([](KfMsg& m) { m.pose.position.z = INFINITY; }, "pose");
   kf_rejected([](KfMsg& m) { m.pose.orientation.x = NAN; }, "pose");
   kf_rejected([](KfMsg& m) { m.pose.orientation.w = 0.5; }, "quaternion");
@@ -111,6 +112,7 @@ TEST(BridgeValidation, FrameFields) {
     expect_rejected<FrameMsg, FrameRecord>(good, spoil, word, l);
   };
   rejected([](FrameMsg& m) { m.version = 0; }, "version");
+  rejected([](FrameMsg& m) { m.created_wall = -INFINITY; }, "created_wall");
   rejected([](FrameMsg& m) { m.kp_xy.clear(); }, "kp_xy");
   rejected([](FrameMsg& m) { m.descriptors.push_back(1); }, "32 per keypoint");
   rejected([](FrameMsg& m) { m.intrinsics[0] = 0; }, "fx, fy");

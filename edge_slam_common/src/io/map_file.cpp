@@ -164,6 +164,10 @@ std::vector<uint8_t> encode_map_file(const MapSnapshot& s) {
   }
   w.put(static_cast<uint32_t>(s.content.points.size()));
   for (const MapPointRecord& p : s.content.points) put_point(w, p);
+  for (const std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids}) {
+    w.put(static_cast<uint32_t>(ids->size()));
+    for (uint32_t id : *ids) w.put(id);
+  }
   std::vector<uint8_t>& bytes = w.bytes();
   const uint64_t payload = bytes.size() - kHeaderBytes;
   const uint64_t checksum = fnv1a64(bytes.data() + kHeaderBytes, payload);
@@ -202,6 +206,10 @@ MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string&
     }
     s.content.points.resize(in.count(kPointBytes, "map point"));
     for (MapPointRecord& p : s.content.points) p = get_point(in);
+    for (std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids}) {
+      ids->resize(in.count(4, "KeyFrame id list"));
+      for (uint32_t& id : *ids) id = in.get<uint32_t>("KeyFrame id list");
+    }
     if (in.remaining() != 0) throw std::runtime_error(std::to_string(in.remaining()) + " unread payload bytes");
   } catch (const std::runtime_error& e) {
     fail(origin, e.what());

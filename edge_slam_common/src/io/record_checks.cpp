@@ -48,7 +48,7 @@ std::string pose_problem(const Eigen::Isometry3d& T) {
 std::string keyframe_record_problem(const KeyFrameRecord& r) {
   const std::string who = "KeyFrame " + std::to_string(r.id) + ": ";
   if (r.id == kNoId) return "KeyFrame id is the reserved 'no id' value";
-  if (!std::isfinite(r.stamp)) return who + "stamp is not finite";
+  if (!std::isfinite(r.stamp) || !std::isfinite(r.created_wall)) return who + "stamp or created_wall is not finite";
   if (std::string p = pose_problem(r.T_wc); !p.empty()) return who + p;
   if (std::string p = feature_record_problem(r.features); !p.empty()) return who + p;
   const size_t n = r.features.size();

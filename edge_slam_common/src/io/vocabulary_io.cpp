@@ -95,6 +95,8 @@ BowTreeArrays parse_binary(const std::vector<uint8_t>& file, const std::string& 
     fail(path, (file.size() < expected_size ? "truncated: " : "trailing data: ") + std::to_string(file.size()) +
                    " bytes, expected " + std::to_string(expected_size) + " for " + std::to_string(nodes) + " nodes");
   if (binary_checksum(file) != stored_checksum) fail(path, "checksum mismatch (the file is corrupt)");
+  // Also keeps the copies below away from empty vectors (memcpy from/to null is undefined).
+  if (nodes < 2) fail(path, "holds " + std::to_string(nodes) + " nodes (a tree needs a root and at least one leaf)");
 
   tree.parents.resize(nodes);
   tree.descriptors.resize(nodes * kDescriptorBytes);
@@ -299,11 +301,16 @@ void save_vocabulary_text(const BowVocabulary& vocabulary, const std::string& pa
 
 BowVocabulary load_vocabulary(const std::string& path) {
   const std::vector<uint8_t> file = read_whole_file(path);
-  BowTreeArrays tree = parse_any(file, path);
+  return load_vocabulary_from_bytes(file.data(), file.size(), path);
+}
+
+BowVocabulary load_vocabulary_from_bytes(const uint8_t* data, size_t size, const std::string& origin) {
+  const std::vector<uint8_t> file(data, data + size);
+  BowTreeArrays tree = parse_any(file, origin);
   try {
     return BowVocabulary::from_arrays(tree);
   } catch (const std::runtime_error& e) {
-    fail(path, e.what());
+    fail(origin, e.what());
   }
 }
 

@@ -217,6 +217,13 @@ void EdgeSession::save_map(const std::string& path) const {
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
     snapshot = snapshot_map(*map_);
     snapshot.last_keyframe_seq = counters_.last_seq;
+    snapshot.received_keyframe_ids.assign(seen_ids_.begin(), seen_ids_.end());
+    std::sort(snapshot.received_keyframe_ids.begin(), snapshot.received_keyframe_ids.end());
+    snapshot.inserted_keyframe_ids = accepted_ids_;
+  }
+  {
+    std::lock_guard<std::mutex> culled_lock(culled_mutex_);
+    snapshot.culled_keyframe_ids = culled_ids_;
   }
   write_map_file(snapshot, path);  // no lock held: receiving and mapping go on meanwhile
 }
@@ -237,9 +244,11 @@ void EdgeSession::load_map(const std::string& path) {
     map_->clear();
     install_snapshot(snapshot, objects, *map_, *database_);
   }
-  // The restored KeyFrames count as received: a resent copy is a duplicate.
+  // The restored KeyFrames and every id received before the save count as received: a
+  // resent copy is a duplicate. The accounting continues from the saved one.
   inserted_.clear();
-  seen_ids_.clear();
+  seen_ids_ = std::unordered_set<uint32_t>(snapshot.received_keyframe_ids.begin(),
+                                           snapshot.received_keyframe_ids.end());
   last_inserted_frame_id_ = 0;
   for (const auto& kf : map_->keyframes()) {  // by id, the order the mobile created them in
     inserted_.push_back(kf->id());
@@ -247,7 +256,12 @@ void EdgeSession::load_map(const std::string& path) {
     last_inserted_frame_id_ = std::max<uint64_t>(last_inserted_frame_id_, kf->frame_id());
   }
   while (inserted_.size() > 1000) inserted_.pop_front();
-  any_inserted_ = !seen_ids_.empty();
+  accepted_ids_ = snapshot.inserted_keyframe_ids;
+  {
+    std::lock_guard<std::mutex> culled_lock(culled_mutex_);
+    culled_ids_ = snapshot.culled_keyframe_ids;
+  }
+  any_inserted_ = !map_->keyframes().empty();
   relocalization_sent_ = false;
   counters_.last_seq = std::max(counters_.last_seq, snapshot.last_keyframe_seq);
   start_modules();

@@ -2,6 +2,7 @@
 // a KeyFrame with observations, new points and links; a Frame; a MapUpdate whose KeyFrames
 // observe its points and form a spanning-tree chain.
 #pragma once
+#include <edge_slam/camera/pinhole_camera.h>
 #include <edge_slam_bridge/message_conversion.h>
 
 #include <random>
@@ -10,6 +11,22 @@ namespace edge_slam {
 namespace fixtures {
 
 inline CameraRecord camera() { return {"synthetic_room", 525, 525, 319.5, 239.5, 40.0, 3.05f, 640, 480}; }
+
+// The receiver's configured camera that camera() describes.
+inline PinholeCamera pinhole_camera() {
+  const CameraRecord r = camera();
+  PinholeCamera p;
+  p.name = r.name;
+  p.width = r.width;
+  p.height = r.height;
+  p.fx = r.fx;
+  p.fy = r.fy;
+  p.cx = r.cx;
+  p.cy = r.cy;
+  p.bf = r.bf;
+  p.th_depth = r.th_depth;
+  return p;
+}
 
 inline FeatureRecord features(size_t n, std::mt19937& rng) {
   std::uniform_real_distribution<float> ux(0.f, 639.f), uy(0.f, 479.f), ua(0.f, 359.9f), ud(0.4f, 8.f);

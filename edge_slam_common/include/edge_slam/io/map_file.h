@@ -1,8 +1,8 @@
 // The Global-Map on disk (edge persistence): a versioned binary file holding a MapSnapshot.
 // Layout: magic "ESMAPBIN", u32 version, u32 zero, u64 payload size, u64 FNV-1a of the
-// payload, then the payload (little-endian; KeyFrames with pose, camera, features,
-// descriptors, observations, parent, covisibility weights and loop edges; map points; the id
-// counters). Writing goes to a temporary file in the same folder which is then renamed over
+// payload, then the payload (little-endian; the id counters; KeyFrames with pose, camera,
+// features, descriptors, observations, parent, covisibility weights and loop edges; map
+// points; the KeyFrame accounting). Writing goes to a temporary file in the same folder which is then renamed over
 // the target, so a crash mid-write leaves the previous file intact.
 #pragma once
 #include <cstdint>
@@ -23,6 +23,9 @@ struct MapSnapshot {
   std::unordered_map<uint32_t, std::vector<uint32_t>> loop_edges;  // KeyFrame id -> loop partners
   uint32_t next_keyframe_id = 0, next_map_point_id = 0;             // the map's id allocators
   uint64_t last_keyframe_seq = 0;                                   // delivery acknowledgement
+  // The edge's KeyFrame accounting, so a restarted edge still de-duplicates and can account
+  // for every KeyFrame the mobile sent: ids received, inserted, and culled since.
+  std::vector<uint32_t> received_keyframe_ids, inserted_keyframe_ids, culled_keyframe_ids;
 };
 
 std::vector<uint8_t> encode_map_file(const MapSnapshot& snapshot);

@@ -8,6 +8,8 @@
 //    as in ORB-SLAM2.
 // Every load error throws std::runtime_error naming the file and what was expected.
 #pragma once
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "edge_slam/data/bow_vocabulary.h"
@@ -19,5 +21,7 @@ void save_vocabulary_text(const BowVocabulary& vocabulary, const std::string& pa
 
 // Detects the format from the file content.
 BowVocabulary load_vocabulary(const std::string& path);
+// The same from bytes already in memory; `origin` names them in errors (fuzzing, tests).
+BowVocabulary load_vocabulary_from_bytes(const uint8_t* data, size_t size, const std::string& origin);
 
 }  // namespace edge_slam
