@@ -176,17 +176,8 @@ class EdgeNodelet : public nodelet::Nodelet {
 
   void log_event(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms,
                  double duration_ms, const std::string& detail) {
-    edge_slam::EventRow row;
-    row.wall_time = edge_slam::wall_clock_seconds();
-    row.data_time = data_time;
-    row.event = event;
-    row.seq = seq;
-    row.bytes = bytes;
-    row.latency_ms = latency_ms;
-    row.duration_ms = duration_ms;
-    row.map_keyframes = static_cast<long>(session_->global_map()->num_keyframes());
-    row.detail = detail;
-    events_->add(std::move(row));
+    events_->add(event, data_time, seq, bytes, latency_ms, duration_ms,
+                 static_cast<long>(session_->global_map()->num_keyframes()), detail);
   }
 
   void publish_map() {

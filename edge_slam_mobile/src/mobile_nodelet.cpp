@@ -202,15 +202,8 @@ class MobileNodelet : public nodelet::Nodelet {
     if (!r.message.empty() && r.state != edge_slam::TrackingState::kOk)
       NODELET_WARN_THROTTLE(5.0, "tracking: %s", r.message.c_str());
     metrics_.on_frame(r.time_ms);
-    edge_slam::EventRow row;
-    row.wall_time = edge_slam::wall_clock_seconds();
-    row.data_time = stamp;
-    row.event = "frame";
-    row.seq = r.frame_id;
-    row.duration_ms = r.time_ms;
-    row.map_keyframes = static_cast<long>(s->local_map_keyframes());
-    row.detail = edge_slam::to_string(r.state);
-    events_->add(row);
+    log_event("frame", stamp, r.frame_id, 0, -1, r.time_ms, static_cast<long>(s->local_map_keyframes()),
+              edge_slam::to_string(r.state));
     publish_state(r);
     if (r.pose_valid) publish_pose(r.T_cw.inverse(), rgb->header.stamp);
     write_anchors(r, stamp);
@@ -330,17 +323,7 @@ class MobileNodelet : public nodelet::Nodelet {
 
   void log_event(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms,
                  double duration_ms, long map_keyframes, const std::string& detail) {
-    edge_slam::EventRow row;
-    row.wall_time = edge_slam::wall_clock_seconds();
-    row.data_time = data_time;
-    row.event = event;
-    row.seq = seq;
-    row.bytes = bytes;
-    row.latency_ms = latency_ms;
-    row.duration_ms = duration_ms;
-    row.map_keyframes = map_keyframes;
-    row.detail = detail;
-    events_->add(std::move(row));
+    events_->add(event, data_time, seq, bytes, latency_ms, duration_ms, map_keyframes, detail);
   }
 
   // Frames relative to their reference KeyFrame and KeyFrames relative to their parent: with the

@@ -1,6 +1,7 @@
 #include "edge_slam/io/event_log.h"
 
 #include "edge_slam/io/output_path.h"
+#include "edge_slam/util/wall_clock.h"
 
 #include <algorithm>
 #include <iomanip>
@@ -29,6 +30,21 @@ void EventLog::add(EventRow row) {
   std::replace(row.detail.begin(), row.detail.end(), ',', ';');  // keep the CSV well-formed
   std::lock_guard<std::mutex> lock(mutex_);
   pending_.push_back(std::move(row));
+}
+
+void EventLog::add(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms,
+                   double duration_ms, long map_keyframes, std::string detail) {
+  EventRow row;
+  row.wall_time = wall_clock_seconds();
+  row.data_time = data_time;
+  row.event = event;
+  row.seq = seq;
+  row.bytes = bytes;
+  row.latency_ms = latency_ms;
+  row.duration_ms = duration_ms;
+  row.map_keyframes = map_keyframes;
+  row.detail = std::move(detail);
+  add(std::move(row));
 }
 
 void EventLog::flush() {

@@ -28,6 +28,9 @@ class EventLog {
   ~EventLog();
   bool enabled() const { return enabled_; }
   void add(EventRow row);
+  // The same, stamped with the wall clock now.
+  void add(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms, double duration_ms,
+           long map_keyframes, std::string detail);
   void flush();  // call from one thread at a time (a timer, the destructor)
 
   static const char* header();
