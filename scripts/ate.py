@@ -69,6 +69,28 @@ def umeyama_se3(src, dst):
     return R, mu_d - R @ mu_s
 
 
+def ate_stats(t_est, p_est, t_gt, p_gt, max_dt=0.02):
+    """Aligned translation errors of estimated positions against ground truth (arrays of stamps
+    and Nx3 positions, any order), summarised; ValueError when fewer than 3 poses pair up."""
+    order = np.argsort(t_gt)
+    t_gt, p_gt = t_gt[order], p_gt[order]
+    pairs = associate(t_est, t_gt, max_dt)
+    if len(pairs) < 3:
+        raise ValueError(f"only {len(pairs)} poses associated within {max_dt} s: cannot align")
+    e = p_est[[i for i, _ in pairs]]
+    g = p_gt[[k for _, k in pairs]]
+    R, t = umeyama_se3(e, g)
+    err = np.linalg.norm(g - (e @ R.T + t), axis=1)
+    return {
+        'ate_rmse_m': float(np.sqrt(np.mean(err ** 2))),
+        'ate_mean_m': float(np.mean(err)),
+        'ate_median_m': float(np.median(err)),
+        'ate_std_m': float(np.std(err)),
+        'ate_max_m': float(np.max(err)),
+        'ate_pairs': len(pairs),
+    }
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('groundtruth')
@@ -77,25 +99,12 @@ def main():
     ap.add_argument('--json', action='store_true', help='print a JSON object instead of text')
     a = ap.parse_args()
     t_gt, p_gt = read_tum(a.groundtruth)
-    order = np.argsort(t_gt)
-    t_gt, p_gt = t_gt[order], p_gt[order]
     t_est, p_est = read_tum(a.trajectory)
-    pairs = associate(t_est, t_gt, a.max_dt)
-    if len(pairs) < 3:
-        sys.exit(f"only {len(pairs)} poses associated within {a.max_dt} s: cannot align")
-    e = p_est[[i for i, _ in pairs]]
-    g = p_gt[[k for _, k in pairs]]
-    R, t = umeyama_se3(e, g)
-    err = np.linalg.norm(g - (e @ R.T + t), axis=1)
-    res = {
-        'ate_rmse_m': float(np.sqrt(np.mean(err ** 2))),
-        'ate_mean_m': float(np.mean(err)),
-        'ate_median_m': float(np.median(err)),
-        'ate_std_m': float(np.std(err)),
-        'ate_max_m': float(np.max(err)),
-        'ate_pairs': len(pairs),
-        'ate_tool': 'scripts/ate.py',
-    }
+    try:
+        res = ate_stats(t_est, p_est, t_gt, p_gt, a.max_dt)
+    except ValueError as e:
+        sys.exit(str(e))
+    res['ate_tool'] = 'scripts/ate.py'
     if a.json:
         print(json.dumps(res))
     else:

@@ -94,17 +94,12 @@ class SplitSystem:
 
 
 def ate_rmse(poses, groundtruth_path, max_dt=0.02):
-    """Umeyama SE(3)-aligned ATE RMSE (metres) of (stamp, x, y, z) poses, via scripts/ate.py."""
+    """Umeyama SE(3)-aligned ATE RMSE (metres) and pairs of (stamp, x, y, z) poses, via scripts/ate.py."""
     import ate
     t_gt, p_gt = ate.read_tum(groundtruth_path)
-    order = np.argsort(t_gt)
-    t_gt, p_gt = t_gt[order], p_gt[order]
     est = np.array(sorted(poses))
-    pairs = ate.associate(est[:, 0], t_gt, max_dt)
-    if len(pairs) < 3:
-        raise AssertionError('only %d poses matched the ground truth' % len(pairs))
-    e = est[[i for i, _ in pairs], 1:4]
-    g = p_gt[[k for _, k in pairs]]
-    R, t = ate.umeyama_se3(e, g)
-    err = np.linalg.norm(g - (e @ R.T + t), axis=1)
-    return float(np.sqrt(np.mean(err ** 2))), len(pairs)
+    try:
+        res = ate.ate_stats(est[:, 0], est[:, 1:4], t_gt, p_gt, max_dt)
+    except ValueError as e:
+        raise AssertionError(str(e))
+    return res['ate_rmse_m'], res['ate_pairs']
