@@ -25,10 +25,12 @@
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
 #include "edge_slam/io/config_file.h"
+#include "edge_slam/io/metrics_json.h"
 #include "edge_slam/io/trajectory_io.h"
 #include "edge_slam/io/tum_dataset.h"
 #include "edge_slam/io/vocabulary_io.h"
 #include "edge_slam/module/local_mapping_params.h"
+#include "edge_slam/module/module_metrics.h"
 #include "edge_slam/module/slam_system.h"
 #include "edge_slam/module/tracking.h"
 #include "edge_slam/module/tracking_params.h"
@@ -52,12 +54,6 @@ int usage(const char* msg) {
                "  --pace realtime (default) feeds frames at their timestamps, as ORB-SLAM2's runner does;\n"
                "  --no-mapping tracks only (no local mapping, no loop closing); --no-loop skips loop closing.\n";
   return 1;
-}
-
-void write_timing(std::ostream& m, const char* name, const std::vector<double>& ms, bool last = false) {
-  const TimingStats t = summarize_times(ms);
-  m << "  \"" << name << "\": {\"count\": " << t.count << ", \"mean\": " << t.mean << ", \"median\": " << t.median
-    << ", \"p95\": " << t.p95 << ", \"max\": " << t.max << "}" << (last ? "\n" : ",\n");
 }
 
 void write_keyframes(const std::string& path, const Map& map) {
@@ -186,45 +182,20 @@ int main(int argc, char** argv) {
     const TrackingCounters& c = tracking.counters();
     const TimingStats t = summarize_times(tracking.frame_times_ms());
     const TimingStats cpu = summarize_times(tracking.frame_cpu_times_ms());
-    std::ofstream m(out_dir + "/metrics.json");
-    m << std::fixed << std::setprecision(3) << "{\n"
-      << "  \"mode\": \"" << (no_mapping ? "tracking-only" : "monolithic") << "\",\n"
-      << "  \"dataset\": \"" << dataset_dir << "\",\n"
-      << "  \"frames\": " << processed << ",\n"
-      << "  \"every\": " << every << ",\n"
-      << "  \"frames_tracked\": " << c.frames_tracked << ",\n"
-      << "  \"times_lost\": " << c.times_lost << ",\n"
-      << "  \"relocalizations\": " << c.relocalizations << ",\n"
-      << "  \"rejected_inputs\": " << c.rejected_inputs << ",\n"
-      << "  \"keyframes\": " << map->num_keyframes() << ",\n"
-      << "  \"map_points\": " << map->num_map_points() << ",\n"
-      << "  \"loops_closed\": " << (slam.loop_closing() ? slam.loop_closing()->loops_closed() : 0) << ",\n"
-      << "  \"full_ba_runs\": " << (slam.loop_closing() ? slam.loop_closing()->full_ba_runs() : 0) << ",\n";
-    if (const LocalMapping* lm = slam.local_mapping()) {
-      const LocalMappingStats s = lm->stats();
-      m << "  \"local_mapping\": {\"keyframes_processed\": " << s.keyframes_processed
-        << ", \"keyframes_skipped\": " << s.keyframes_skipped << ", \"points_created\": " << s.points_created
-        << ", \"points_culled\": " << s.points_culled << ", \"points_fused\": " << s.points_fused
-        << ", \"keyframes_culled\": " << s.keyframes_culled << ", \"local_ba_runs\": " << s.local_ba_runs
-        << ", \"local_ba_aborted\": " << s.local_ba_aborted << ", \"local_ba_failed\": " << s.local_ba_failed << "},\n";
-      write_timing(m, "local_mapping_ms", lm->process_times_ms());
-      write_timing(m, "local_ba_ms", lm->local_ba_times_ms());
-    }
-    if (const LoopClosing* lc = slam.loop_closing()) {
-      write_timing(m, "loop_detection_ms", lc->detection_times_ms());
-      write_timing(m, "loop_correction_ms", lc->correction_times_ms());
-      write_timing(m, "full_ba_ms", lc->full_ba_times_ms());
-      m << "  \"loops\": [";
-      const auto loops = lc->loops();
-      for (size_t k = 0; k < loops.size(); ++k)
-        m << (k ? ", " : "") << "{\"kf\": " << loops[k].current_kf_id << ", \"loop_kf\": " << loops[k].loop_kf_id
-          << ", \"matches\": " << loops[k].matches << "}";
-      m << "],\n";
-    }
-    write_timing(m, "tracking_cpu_ms", tracking.frame_cpu_times_ms());
-    write_timing(m, "tracking_ms", tracking.frame_times_ms(), true);
-    m << "}\n";
-    if (!m) throw std::runtime_error("cannot write '" + out_dir + "/metrics.json'");
+    MetricsJson m;
+    m.text("mode", no_mapping ? "tracking-only" : "monolithic")
+        .text("dataset", dataset_dir)
+        .integer("frames", static_cast<long long>(processed))
+        .integer("every", every)
+        .integer("frames_tracked", c.frames_tracked)
+        .integer("times_lost", c.times_lost)
+        .integer("relocalizations", c.relocalizations)
+        .integer("rejected_inputs", c.rejected_inputs)
+        .integer("keyframes", static_cast<long long>(map->num_keyframes()))
+        .integer("map_points", static_cast<long long>(map->num_map_points()));
+    add_module_figures(m, collect_module_figures(slam.local_mapping(), slam.loop_closing()));
+    m.timing("tracking_cpu_ms", tracking.frame_cpu_times_ms()).timing("tracking_ms", tracking.frame_times_ms());
+    m.write(out_dir + "/metrics.json");
     std::cout << "frames " << processed << ", tracked " << c.frames_tracked << ", lost " << c.times_lost
               << " times, relocalized " << c.relocalizations << ", keyframes " << map->num_keyframes()
               << ", map points " << map->num_map_points() << ", loops closed "

@@ -27,10 +27,9 @@
 #include <std_msgs/String.h>
 
 #include <atomic>
-#include <cstdio>
-#include <fstream>
 #include <memory>
 #include <mutex>
+#include <sstream>
 
 namespace edge_slam_edge {
 
@@ -253,8 +252,7 @@ class EdgeNodelet : public nodelet::Nodelet {
     if (!session_ || (metrics_file_.empty() && keyframes_file_.empty())) return;
     std::lock_guard<std::mutex> write_lock(write_mutex_);
     const edge_slam::EdgeCounters c = session_->counters();
-    const edge_slam::EdgeTimings t = session_->timings();
-    edge_slam::MetricsJson keyframes, mapping, m;
+    edge_slam::MetricsJson keyframes, m;
     keyframes.integer("received", static_cast<long long>(c.received))
         .integer("inserted", static_cast<long long>(c.inserted))
         .integer("duplicates", static_cast<long long>(c.duplicates))
@@ -262,33 +260,12 @@ class EdgeNodelet : public nodelet::Nodelet {
         .integer("rejected_condition2", static_cast<long long>(c.rejected_condition2))
         .integer("invalid", static_cast<long long>(c.invalid + invalid_))
         .integer("resets", static_cast<long long>(c.resets));
-    mapping.integer("keyframes_processed", t.mapping.keyframes_processed)
-        .integer("points_created", t.mapping.points_created)
-        .integer("points_culled", t.mapping.points_culled)
-        .integer("points_fused", t.mapping.points_fused)
-        .integer("keyframes_culled", t.mapping.keyframes_culled)
-        .integer("local_ba_runs", t.mapping.local_ba_runs)
-        .integer("local_ba_aborted", t.mapping.local_ba_aborted)
-        .integer("local_ba_failed", t.mapping.local_ba_failed);
-    std::string loops = "[";
-    for (const auto& l : session_->loops())
-      loops += (loops.size() > 1 ? ", " : "") + std::string("{\"kf\": ") + std::to_string(l.current_kf_id) +
-               ", \"loop_kf\": " + std::to_string(l.loop_kf_id) + ", \"matches\": " + std::to_string(l.matches) + "}";
-    loops += "]";
     const auto map = session_->global_map();
     m.text("node", "edge")
         .object("keyframes", keyframes)
         .integer("global_map_keyframes", static_cast<long long>(map->num_keyframes()))
-        .integer("global_map_points", static_cast<long long>(map->num_map_points()))
-        .integer("loops_closed", static_cast<long long>(session_->loops_closed()))
-        .integer("full_ba_runs", t.full_ba_runs)
-        .raw("loops", loops)
-        .object("local_mapping", mapping)
-        .timing("local_mapping_ms", t.local_mapping_ms)
-        .timing("local_ba_ms", t.local_ba_ms)
-        .timing("loop_detection_ms", t.loop_detection_ms)
-        .timing("loop_correction_ms", t.loop_correction_ms)
-        .timing("full_ba_ms", t.full_ba_ms);
+        .integer("global_map_points", static_cast<long long>(map->num_map_points()));
+    edge_slam::add_module_figures(m, session_->module_figures());
     {
       std::lock_guard<std::mutex> lock(figures_mutex_);
       m.integer("updates_sent", static_cast<long long>(updates_sent_))
@@ -307,20 +284,15 @@ class EdgeNodelet : public nodelet::Nodelet {
 
   // "id stamp tx ty tz qx qy qz qw" (T_wc) of every Global-Map KeyFrame, replaced atomically.
   void write_keyframes(const edge_slam::Map& map) {
-    edge_slam::ensure_parent_directory(keyframes_file_);
-    const std::string tmp = keyframes_file_ + ".tmp";
-    {
-      std::ofstream out(tmp, std::ios::out | std::ios::trunc);
-      out << "# keyframe_id timestamp tx ty tz qx qy qz qw (T_wc, Global-Map)\n";
-      for (const auto& kf : map.keyframes()) {
-        out << kf->id() << ' ';
-        edge_slam::write_tum_pose(out, kf->stamp(), kf->T_wc());
-      }
-      if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
+    std::ostringstream out;
+    out << "# keyframe_id timestamp tx ty tz qx qy qz qw (T_wc, Global-Map)\n";
+    for (const auto& kf : map.keyframes()) {
+      out << kf->id() << ' ';
+      edge_slam::write_tum_pose(out, kf->stamp(), kf->T_wc());
     }
-    if (std::rename(tmp.c_str(), keyframes_file_.c_str()) != 0)
-      throw std::runtime_error("cannot rename '" + tmp + "' to '" + keyframes_file_ + "'");
+    edge_slam::write_file_atomically(keyframes_file_, out.str());
   }
+
 
   std::unique_ptr<edge_slam::EdgeSession> session_;
   std::unique_ptr<edge_slam::EventLog> events_;

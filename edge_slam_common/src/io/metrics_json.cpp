@@ -1,10 +1,7 @@
 #include "edge_slam/io/metrics_json.h"
 
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <sstream>
-#include <stdexcept>
 
 #include "edge_slam/io/output_path.h"
 #include "edge_slam/util/timing_stats.h"
@@ -79,15 +76,6 @@ std::string MetricsJson::str(bool pretty) const {
   return out;
 }
 
-void MetricsJson::write(const std::string& path) const {
-  ensure_parent_directory(path);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::out | std::ios::trunc);
-    f << str(true);
-    if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
-}
+void MetricsJson::write(const std::string& path) const { write_file_atomically(path, str(true)); }
 
 }  // namespace edge_slam

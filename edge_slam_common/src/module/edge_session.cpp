@@ -118,9 +118,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
     map_->add_keyframe(kf);
   }
   mapping_->insert_keyframe(kf);
-  inserted_.push_back(kf->id());
-  accepted_ids_.push_back(kf->id());
-  if (inserted_.size() > 1000) inserted_.pop_front();
+  inserted_ids_.push_back(kf->id());
   last_inserted_frame_id_ = r.frame_id;
   any_inserted_ = true;
   ++counters_.inserted;
@@ -145,7 +143,7 @@ MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFr
 std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now) {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::shared_ptr<KeyFrame>> newest;
-  for (auto it = inserted_.rbegin(); it != inserted_.rend() && newest.size() < static_cast<size_t>(params_.update_size);
+  for (auto it = inserted_ids_.rbegin(); it != inserted_ids_.rend() && newest.size() < static_cast<size_t>(params_.update_size);
        ++it)
     if (auto kf = map_->keyframe(*it); kf && !kf->is_bad()) newest.push_back(kf);
   if (newest.empty()) return std::nullopt;
@@ -198,9 +196,8 @@ void EdgeSession::reset_locked() {
   stop_modules();
   map_->clear();
   database_->clear();
-  inserted_.clear();
   seen_ids_.clear();
-  accepted_ids_.clear();
+  inserted_ids_.clear();
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_.clear();
@@ -219,7 +216,7 @@ void EdgeSession::save_map(const std::string& path) const {
     snapshot.last_keyframe_seq = counters_.last_seq;
     snapshot.received_keyframe_ids.assign(seen_ids_.begin(), seen_ids_.end());
     std::sort(snapshot.received_keyframe_ids.begin(), snapshot.received_keyframe_ids.end());
-    snapshot.inserted_keyframe_ids = accepted_ids_;
+    snapshot.inserted_keyframe_ids = inserted_ids_;
   }
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
@@ -246,17 +243,14 @@ void EdgeSession::load_map(const std::string& path) {
   }
   // The restored KeyFrames and every id received before the save count as received: a
   // resent copy is a duplicate. The accounting continues from the saved one.
-  inserted_.clear();
   seen_ids_ = std::unordered_set<uint32_t>(snapshot.received_keyframe_ids.begin(),
                                            snapshot.received_keyframe_ids.end());
   last_inserted_frame_id_ = 0;
-  for (const auto& kf : map_->keyframes()) {  // by id, the order the mobile created them in
-    inserted_.push_back(kf->id());
+  for (const auto& kf : map_->keyframes()) {
     seen_ids_.insert(kf->id());
     last_inserted_frame_id_ = std::max<uint64_t>(last_inserted_frame_id_, kf->frame_id());
   }
-  while (inserted_.size() > 1000) inserted_.pop_front();
-  accepted_ids_ = snapshot.inserted_keyframe_ids;
+  inserted_ids_ = snapshot.inserted_keyframe_ids;  // insertion order: the newest go in updates
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;
@@ -282,26 +276,16 @@ std::vector<LoopEvent> EdgeSession::loops() const {
   return loop_ ? loop_->loops() : std::vector<LoopEvent>{};
 }
 
-EdgeTimings EdgeSession::timings() const {
+ModuleFigures EdgeSession::module_figures() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  EdgeTimings t;
-  t.mapping = mapping_->stats();
-  t.local_mapping_ms = mapping_->process_times_ms();
-  t.local_ba_ms = mapping_->local_ba_times_ms();
-  if (loop_) {
-    t.loop_detection_ms = loop_->detection_times_ms();
-    t.loop_correction_ms = loop_->correction_times_ms();
-    t.full_ba_ms = loop_->full_ba_times_ms();
-    t.full_ba_runs = loop_->full_ba_runs();
-  }
-  return t;
+  return collect_module_figures(mapping_.get(), loop_.get());
 }
 
 KeyFrameAccount EdgeSession::keyframe_account() const {
   KeyFrameAccount a;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    a.inserted = accepted_ids_;
+    a.inserted = inserted_ids_;
   }
   // The map before the culled list: a KeyFrame culled in between shows up in both, never in neither.
   for (const auto& kf : map_->keyframes()) a.in_map.push_back(kf->id());

@@ -1,19 +1,16 @@
-// Output files (statistics, metrics, trajectories) may name a folder that does not exist yet:
-// it is created, so `out:=<new folder>` just works. Throws naming the folder when it cannot be.
+// Output files (statistics, metrics, trajectories, KeyFrame poses) may name a folder that does
+// not exist yet: it is created, so `out:=<new folder>` just works. Files other processes read
+// while they are rewritten (metrics.json, the edge's KeyFrame poses) are replaced atomically.
 #pragma once
-#include <filesystem>
-#include <stdexcept>
 #include <string>
-#include <system_error>
 
 namespace edge_slam {
 
-inline void ensure_parent_directory(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (parent.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(parent, ec);
-  if (ec) throw std::runtime_error("cannot create the folder '" + parent.string() + "': " + ec.message());
-}
+// Creates the folder of `path` if needed; throws naming the folder when it cannot.
+void ensure_parent_directory(const std::string& path);
+
+// Writes `content` to `path` through a temporary file and a rename, so a reader sees the old or
+// the new file, never half of one. Creates the folder; throws naming the file on any error.
+void write_file_atomically(const std::string& path, const std::string& content);
 
 }  // namespace edge_slam

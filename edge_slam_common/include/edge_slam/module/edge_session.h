@@ -5,7 +5,6 @@
 // the Relocalization Map Update Module answers a Frame with its KeyFrame-database candidates
 // plus the KeyFrames connected to each. A KeyFrame flagged `reset` clears the Global-Map.
 #pragma once
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -17,6 +16,7 @@
 #include "edge_slam/io/wire_records.h"
 #include "edge_slam/module/local_mapping.h"
 #include "edge_slam/module/loop_closing.h"
+#include "edge_slam/module/module_metrics.h"
 
 namespace edge_slam {
 
@@ -40,13 +40,6 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg);
 // as redundant by Local-Mapping. Nothing else may happen to one (a lost KeyFrame is a bug).
 struct KeyFrameAccount {
   std::vector<uint32_t> inserted, culled, in_map;  // sorted ids
-};
-
-// Per-call module timings (ms) since the last reset, for metrics.json and the stats topic.
-struct EdgeTimings {
-  LocalMappingStats mapping;
-  std::vector<double> local_mapping_ms, local_ba_ms, loop_detection_ms, loop_correction_ms, full_ba_ms;
-  int full_ba_runs = 0;
 };
 
 enum class KeyFrameVerdict { kInserted, kDuplicate, kRejectedAfterRelocalization, kRejectedMapperBusy, kInvalid, kReset };
@@ -85,7 +78,8 @@ class EdgeSession {
   std::vector<LoopEvent> loops() const;
   KeyFrameAccount keyframe_account() const;
   bool mapping_idle() const;
-  EdgeTimings timings() const;
+  // Local-Mapping / Loop-Closing counters and per-call timings since the last reset.
+  ModuleFigures module_figures() const;
 
  private:
   void start_modules();
@@ -103,9 +97,10 @@ class EdgeSession {
   std::unique_ptr<LoopClosing> loop_;
 
   mutable std::mutex mutex_;  // receive / build / reset
-  std::deque<uint32_t> inserted_;        // KeyFrame ids in insertion order
   std::unordered_set<uint32_t> seen_ids_;
-  std::vector<uint32_t> accepted_ids_;     // since the last reset
+  // Every KeyFrame id inserted since the last reset, in insertion order: the newest make the
+  // periodic update; all of them are the accounting (4 bytes per KeyFrame on the edge).
+  std::vector<uint32_t> inserted_ids_;
   mutable std::mutex culled_mutex_;        // culled_ids_ is written by the Local-Mapping thread
   std::vector<uint32_t> culled_ids_;
   uint64_t last_inserted_frame_id_ = 0;
