@@ -4,7 +4,8 @@
 # monolithic runner plus the split's own figures, the final trajectory (frames re-anchored on the
 # edge's final KeyFrames, as monolithic/ORB-SLAM2 save theirs), the as-tracked trajectory, the
 # Local-Map size over time and both sides' per-event CSVs. Called by scripts/eval.sh.
-#   env: DATASET (TUM folder) OUT CAMERA VOCABULARY (resolved by eval.sh)
+#   env: DATASET (TUM folder) OUT CAMERA VOCABULARY (resolved by eval.sh);
+#        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$ROOT"
@@ -12,7 +13,9 @@ ros_env
 
 name=$(basename "$DATASET")
 BAG="$DATASET.bag"
-if [[ ! -f "$BAG" ]]; then   # a TUM folder without its bag: convert once into a git-ignored cache
+if [[ "${SPLIT_SOURCE:-bag}" == folder ]]; then   # played live from the folder (tum_player): no bag
+  SOURCE=(folder:="$(cd "$DATASET" && pwd)")
+elif [[ ! -f "$BAG" ]]; then   # a TUM folder without its bag: convert once into a git-ignored cache
   BAG="results/cache/$name.bag"
   if [[ ! -f "$BAG" || "$DATASET/rgb.txt" -nt "$BAG" ]]; then
     mkdir -p results/cache
@@ -20,9 +23,10 @@ if [[ ! -f "$BAG" ]]; then   # a TUM folder without its bag: convert once into a
     rosrun edge_slam_common tum_to_bag "$DATASET" "$BAG" >&2
   fi
 fi
+[[ "$BAG" = /* ]] || BAG="$ROOT/$BAG"
+[[ "${SPLIT_SOURCE:-bag}" == folder ]] || SOURCE=(bag:="$BAG")
 mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
-[[ "$BAG" = /* ]] || BAG="$ROOT/$BAG"
 [[ "$CAMERA" = /* ]] || CAMERA="$ROOT/$CAMERA"
 rm -f "$OUT"/{mobile,edge}_{stats.csv,metrics.json} "$OUT"/{edge_keyframes,mobile_anchors,trajectory,trajectory_online}.txt
 
@@ -40,15 +44,15 @@ stop_ros() {
 trap stop_ros EXIT
 for _ in $(seq 50); do rosparam list > /dev/null 2>&1 && break; sleep 0.2; done
 
-say "split: mobile + edge nodelets on $BAG (real time; logs in $OUT/launch.log)"
-roslaunch launch/edge_slam.launch bag:="$BAG" camera_config:="$CAMERA" vocabulary:="$VOCABULARY" \
+say "split: mobile + edge nodelets on ${SOURCE[0]#*:=} (real time; logs in $OUT/launch.log)"
+roslaunch launch/edge_slam.launch "${SOURCE[@]}" camera_config:="$CAMERA" vocabulary:="$VOCABULARY" \
   out:="$OUT" exit_with_bag:=false > "$OUT/launch.log" 2>&1 &
 launch_pid=$!
 
 # The bag is over when rosbag play has exited; then the edge finishes what it was given.
 player_running() { local nodes; nodes=$(rosnode list 2>/dev/null || true); grep -qx /player <<< "$nodes"; }
 for _ in $(seq 120); do player_running && break; sleep 0.5; done
-player_running || die "rosbag play did not start: see $OUT/launch.log"
+player_running || die "the player (rosbag play / tum_player) did not start: see $OUT/launch.log"
 while player_running; do
   kill -0 $launch_pid 2>/dev/null || die "the launch ended early: see $OUT/launch.log"
   sleep 2

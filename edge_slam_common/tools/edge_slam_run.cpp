@@ -138,6 +138,7 @@ int main(int argc, char** argv) {
     options.local_mapping = !no_mapping;
     options.loop_closing = !no_mapping && !no_loop;
     options.mapping = load_local_mapping_params(cfg);
+    options.final_full_ba_iterations = cfg.get_int_or("loop_closing/final_full_ba_iterations", 0, 0, 1000);
     // Images come from OpenCV's imread, which always yields BGR.
     SlamSystem slam(camera, orb, tracking_params, vocabulary, options, RgbEncoding::kBgr);
     const Map& map_ref = slam.map();
@@ -148,7 +149,7 @@ int main(int argc, char** argv) {
     const double first_stamp = dataset.frames().empty() ? 0.0 : dataset.frames()[0].rgb_stamp;
     size_t processed = 0;
     std::ofstream frame_log(out_dir + "/frame_times.csv");
-    frame_log << "stamp,state,pose_valid,keyframe,relocalized,tracking_ms,tracking_cpu_ms\n" << std::fixed;
+    frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms\n" << std::fixed;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
       if (pace == "realtime") {  // do not run ahead of the camera
@@ -167,7 +168,8 @@ int main(int argc, char** argv) {
         std::cerr << "frame " << i << " [" << to_string(r.state) << "]: " << r.message << "\n";
       if (r.relocalized) std::cerr << "frame " << i << ": relocalized\n";
       frame_log << std::setprecision(6) << dataset.frames()[i].rgb_stamp << ',' << to_string(r.state) << ','
-                << r.pose_valid << ',' << r.new_keyframe << ',' << r.relocalized << ',' << std::setprecision(3)
+                << r.pose_valid << ',' << r.new_keyframe << ',' << r.relocalized << ',' << r.keypoints << ',' << r.inliers
+                << ',' << std::setprecision(3)
                 << r.time_ms << ',' << r.cpu_ms << '\n';
       if (processed % 100 == 0)
         std::cerr << "frame " << i + 1 << "/" << n << "  keyframes " << map->num_keyframes() << "  points "

@@ -33,7 +33,10 @@ from fast_turn import fast_turn  # noqa: E402
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
 VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth", "long"]
-LONG_DATASET = "bags/synthetic_room_long"  # edge_slam_synth --long (see bags/README.md); run only if present
+# The long run: the embedded sequence's closed path driven 20 times at 15 fps (10 minutes),
+# made by loop_sequence.py in OUT/data (text files and symlinks, no rendering); the split plays
+# it live from the folder (tum_player), since a 10-minute bag of raw images would be ~14 GB.
+LONG_SOURCE, LONG_LAPS, LONG_EVERY = "bags/synthetic_room", 20, 2
 # Paper Table 5: upload / download Mbit/s, plus 5 ms one-way delay.
 BANDWIDTH_LEVELS = {"high": (51, 67), "medium": (20, 20), "low": (15, 10)}
 SAMPLER_ROLES = {"monolithic": ["mobile=edge_slam_run"],
@@ -132,6 +135,10 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
     os.makedirs(run_dir, exist_ok=True)
     data = blank_dir if variant.endswith("_blank") else dataset
     env = dict(os.environ, DATASET=data, MODE=mode, OUT=run_dir)  # eval.sh picks the fr1 calibration itself
+    if variant.startswith("long_"):
+        env["SPLIT_SOURCE"] = "folder"  # no bag of a 10-minute sequence: tum_player reads the folder
+        # the looped embedded sequence: its own vocabulary, not one trained on the copy
+        env["EDGE_SLAM_ARGS"] = (env.get("EDGE_SLAM_ARGS", "") + " --vocabulary bags/vocabulary_synthetic.bin").strip()
     log = open(os.path.join(run_dir, "log.txt"), "w")
     progress.start(f"{os.path.basename(dataset)} {variant}:")
     t0 = time.time()
@@ -290,14 +297,12 @@ def run():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", required=True)
     ap.add_argument("--dataset", action="append", default=[])
-    # The long run (10+ min per mode, and a bag of the long sequence for split) is opt-in, so the
-    # default bench stays within its 45-minute budget: BENCH_ARGS="--add --only long".
-    ap.add_argument("--only", default=",".join(v for v in VARIANTS if v != "long"),
-                    help=f"comma-separated variants to run, of {','.join(VARIANTS)} (default: all but long)")
+    ap.add_argument("--only", default=",".join(VARIANTS),
+                    help=f"comma-separated variants to run, of {','.join(VARIANTS)} (default: all)")
     ap.add_argument("--no-wire", action="store_true", help="skip the wire micro-benchmark")
     ap.add_argument("--report-only", action="store_true", help="rebuild report.md from OUT/runs only")
     ap.add_argument("--long-modes", default="monolithic,split",
-                    help="modes of the long run (split needs the long bag, converted on first use)")
+                    help="modes of the long run")
     ap.add_argument("--add", action="store_true",
                     help="keep what OUT already holds and add these runs (e.g. --only long after a full bench)")
     args = ap.parse_args()
@@ -326,7 +331,7 @@ def run():
     progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long")])
                                          + (1 if any("blank" in v for v in variants) else 0))
                         + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
-                        + (2 if "long" in variants and os.path.isdir(os.path.join(ROOT, LONG_DATASET)) else 0)
+                        + (1 + len(args.long_modes.split(",")) if "long" in variants else 0)
                         + (0 if args.no_wire else 1) + 1)
     t_start = time.time()
     for dataset in datasets:
@@ -358,7 +363,13 @@ def run():
             entry["runs"].append(run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected))
         manifest["datasets"].append(entry)
         save_manifest(out_dir, manifest, previous)
-    long_dir = os.path.join(ROOT, LONG_DATASET)
+    long_dir = os.path.join(out_dir, "data", os.path.basename(LONG_SOURCE) + "_long")
+    if "long" in variants:
+        progress.start("long sequence:")
+        made = subprocess.run([sys.executable, os.path.join(HERE, "loop_sequence.py"), os.path.join(ROOT, LONG_SOURCE),
+                               long_dir, "--laps", str(LONG_LAPS), "--every", str(LONG_EVERY)],
+                              capture_output=True, text=True)
+        progress.done(made.stdout.strip() or made.stderr.strip())
     if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
         seconds = sequence_seconds(long_dir)
         entry = {"path": long_dir, "name": os.path.basename(long_dir), "seconds": seconds, "runs": []}
@@ -367,7 +378,7 @@ def run():
                                              seconds + 40))
         manifest["long_run"] = entry
     elif "long" in variants:
-        manifest["long_run_skipped"] = f"{LONG_DATASET} not found (edge_slam_synth --long)"
+        manifest["long_run_skipped"] = f"{long_dir} could not be made from {LONG_SOURCE}"
     if not args.no_wire:
         synthetic = os.path.join(ROOT, "bags/synthetic_room")
         run_wire_benchmark(progress, out_dir, synthetic if os.path.isdir(synthetic) else datasets[0])

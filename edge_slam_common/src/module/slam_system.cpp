@@ -1,6 +1,11 @@
 #include "edge_slam/module/slam_system.h"
 
 #include <chrono>
+#include <iostream>
+
+#include "edge_slam/module/full_ba_update.h"
+#include "edge_slam/module/map_ba_bridge.h"
+#include "edge_slam/optimize/full_bundle_adjustment.h"
 
 namespace edge_slam {
 
@@ -11,6 +16,7 @@ SlamSystem::SlamSystem(const PinholeCamera& camera, const OrbParams& orb, const 
   TrackingParams params = tracking_params;
   if (!options.local_mapping) params.depth_counts_twice = false;
   tracking_ = std::make_unique<Tracking>(camera, orb, params, map_, database_, vocabulary, encoding);
+  final_full_ba_iterations_ = options.local_mapping ? options.final_full_ba_iterations : 0;
   if (options.local_mapping) {
     mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary, options.mapping);
     if (options.loop_closing && vocabulary) {
@@ -71,6 +77,16 @@ bool SlamSystem::finish(double timeout_s) {
   }
   if (mapping_) mapping_->shutdown(ok);
   if (loop_) loop_->shutdown(ok);
+  if (ok && final_full_ba_iterations_ > 0) {
+    // The threads are stopped: the map is ours, but the lock keeps readers (trajectory()) out.
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    const BundleAdjustmentProblem problem = build_full_ba_problem(*map_);
+    if (problem.keyframes.size() >= 2) {
+      const BundleAdjustmentResult result = run_full_bundle_adjustment(problem, final_full_ba_iterations_);
+      if (result.ok) apply_full_ba_result(*map_, result);
+      else std::cerr << "[slam] final full BA failed: " << result.message << "; map kept as it was\n";
+    }
+  }
   return ok;
 }
 

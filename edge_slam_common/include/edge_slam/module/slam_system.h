@@ -23,6 +23,10 @@ struct SlamSystemOptions {
   bool loop_closing = true;  // needs local_mapping
   LocalMappingParams mapping;
   LoopClosingParams loop;
+  // A last global BA once mapping has drained (finish()): every KeyFrame and point, as after a
+  // loop. ORB-SLAM2 saves its trajectory without one; we offer it because the final map is what
+  // the trajectory is composed from. 0 iterations = off.
+  int final_full_ba_iterations = 0;
 };
 
 class SlamSystem {
@@ -63,6 +67,7 @@ class SlamSystem {
   std::unique_ptr<LocalMapping> mapping_;
   std::unique_ptr<LoopClosing> loop_;
   bool finished_ = false;
+  int final_full_ba_iterations_ = 0;
 
   mutable std::mutex records_mutex_;
   std::vector<FrameRecord> frames_;
