@@ -3,7 +3,7 @@
 #   make setup                       install Debian packages + venv, build, generate the default data
 #   make demo  [HEADLESS=1]          setup, then run the main demo on the embedded synthetic sequence
 #   make test                        setup, then every unit + integration test; ends "N passed, N failed"
-#   make test-split                  the split acceptance rostest on the embedded bag (see test/rostest_split)
+#   make test-split                  only the split acceptance rostest (test/rostest/split_pipeline.test; also in make test)
 #   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
 #   make bench [DATASET=<TUM folder or bag> ...] [OUT=<dir>]   benchmark suite -> OUT/report.md, bench.json
 #   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
@@ -25,10 +25,9 @@ demo: setup
 	HEADLESS=$(HEADLESS) bash scripts/demo.sh
 test:
 	bash scripts/test.sh
-# The full split acceptance run (ATE, updates, Local-Map bound, KeyFrame accounting, loop on the
-# edge) on the embedded bag: kept out of `make test` until the edge closes the loop reliably.
+# The split acceptance run alone (ATE, updates, Local-Map bound, KeyFrame accounting, loop on the edge).
 test-split:
-	bash scripts/build.sh && export PATH=/usr/bin:$$PATH && source .ws/devel/setup.bash && rostest test/rostest_split/split_pipeline.test repo:=$(CURDIR)
+	bash scripts/build.sh && export PATH=/usr/bin:$$PATH && source .ws/devel/setup.bash && rostest test/rostest/split_pipeline.test repo:=$(CURDIR)
 eval:
 	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
 # bench: DATASET/OUT only when given (the defaults above are for eval); BENCH_ARGS e.g. "--only monolithic,split".

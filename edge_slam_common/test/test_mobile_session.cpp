@@ -61,9 +61,9 @@ const RenderedSequence& sequence() {
   return s;
 }
 
-MobileSession make_session() {
-  return MobileSession(sequence().camera, OrbParams(), TrackingParams(), sequence().vocabulary,
-                       MobileSessionParams(), RgbEncoding::kRgb);
+MobileSession make_session(const MobileSessionParams& params = {}) {
+  return MobileSession(sequence().camera, OrbParams(), TrackingParams(), sequence().vocabulary, params,
+                       RgbEncoding::kRgb);
 }
 
 // What the edge would send back: every KeyFrame received so far with all its points.
@@ -85,7 +85,9 @@ MapUpdateRecord update_from(const std::vector<KeyFrameRecord>& sent, const Pinho
 
 TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
   const RenderedSequence& seq = sequence();
-  MobileSession session = make_session();
+  MobileSessionParams params;
+  params.update_retry_window = 0;  // the paper's rule: refused on arrival, no retry
+  MobileSession session = make_session(params);
   const int first_half = kFrames - 10;
   for (int i = 0; i < first_half; ++i)
     ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
@@ -117,6 +119,41 @@ TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
   const MapUpdateCounters c = session.update_counters();
   EXPECT_EQ(c.received, 3u);
   EXPECT_EQ(c.accepted, 1u);
+}
+
+TEST(MobileSession, AnUpdateRefusedOnlyByTheKeyFrameRateIsRetriedOnTheNextFrames) {
+  const RenderedSequence& seq = sequence();
+  MobileSession session = make_session();  // update_retry_window 0.5 s
+  const int first_half = kFrames - 12;
+  for (int i = 0; i < first_half; ++i)
+    ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  MapUpdateRecord first = update_from(sent, seq.camera), second = first;
+  first.seq = 7;
+  second.seq = 8;
+
+  // Superseded: a newer periodic update replaces the waiting one, which counts as refused by (d).
+  EXPECT_EQ(session.apply_update(first, sent.back().stamp + 0.01).decision, UpdateDecision::kDeferred);
+  EXPECT_EQ(session.apply_update(second, sent.back().stamp + 0.02).decision, UpdateDecision::kDeferred);
+  EXPECT_EQ(session.update_counters().rejected_keyframe_rate, 1u);
+  EXPECT_FALSE(session.take_deferred_outcome()) << "nothing decided before the next frame";
+
+  std::optional<std::pair<uint64_t, UpdateOutcome>> outcome;
+  for (int i = first_half; i < kFrames && !outcome; ++i) {
+    ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+    outcome = session.take_deferred_outcome();
+  }
+  ASSERT_TRUE(outcome) << "decided within the 0.5 s window";
+  EXPECT_EQ(outcome->first, 8u);
+  EXPECT_EQ(outcome->second.decision, UpdateDecision::kAccept) << to_string(outcome->second.decision);
+  EXPECT_TRUE(outcome->second.error.empty()) << outcome->second.error;
+  EXPECT_EQ(outcome->second.keyframes, sent.size());
+  const MapUpdateCounters c = session.update_counters();
+  EXPECT_EQ(c.received, 2u);
+  EXPECT_EQ(c.accepted, 1u);
+  EXPECT_EQ(c.rejected_keyframe_rate, 1u);
+  EXPECT_FALSE(session.take_deferred_outcome()) << "reported once";
 }
 
 TEST(MobileSession, LocalMapStaysWithinItsCapAndEveryKeyFrameIsStillSent) {

@@ -38,6 +38,10 @@ class MobileMetrics {
     update_latency_ms_.push_back(latency_ms);
     if (accepted) rebuild_ms_.push_back(rebuild_ms);
   }
+  void on_deferred_update(bool accepted, double rebuild_ms) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (accepted) rebuild_ms_.push_back(rebuild_ms);
+  }
 
   edge_slam_msgs::Stats stats(const edge_slam::MobileSession& s) const {
     edge_slam_msgs::Stats m;

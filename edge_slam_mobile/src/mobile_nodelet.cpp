@@ -204,6 +204,7 @@ class MobileNodelet : public nodelet::Nodelet {
     metrics_.on_frame(r.time_ms);
     log_event("frame", stamp, r.frame_id, 0, -1, r.time_ms, static_cast<long>(s->local_map_keyframes()),
               edge_slam::to_string(r.state));
+    if (auto deferred = s->take_deferred_outcome()) report_deferred_update(*s, deferred->first, deferred->second);
     publish_state(r);
     if (r.pose_valid) publish_pose(r.T_cw.inverse(), rgb->header.stamp);
     write_anchors(r, stamp);
@@ -261,6 +262,20 @@ class MobileNodelet : public nodelet::Nodelet {
                    static_cast<unsigned long>(update.seq), out.keyframes, out.map_points, out.rebuild_ms);
     else
       NODELET_DEBUG("map update %lu rejected: %s", static_cast<unsigned long>(update.seq), to_string(out.decision));
+  }
+
+  // The final decision on an update deferred by eq. (1): one more "update" row (no transfer).
+  void report_deferred_update(const edge_slam::MobileSession& s, uint64_t seq, const edge_slam::UpdateOutcome& out) {
+    const bool accepted = out.decision == edge_slam::UpdateDecision::kAccept && out.error.empty();
+    metrics_.on_deferred_update(accepted, out.rebuild_ms);
+    log_event("update", ros::Time::now().toSec(), seq, 0, -1, accepted ? out.rebuild_ms : -1, s.local_map_keyframes(),
+              std::string("periodic ") + (out.error.empty() ? to_string(out.decision) : "error") + " after_deferral");
+    if (!out.error.empty())
+      NODELET_ERROR_THROTTLE(5.0, "map update %lu could not be applied: %s", static_cast<unsigned long>(seq),
+                             out.error.c_str());
+    else if (accepted)
+      NODELET_INFO("applied deferred map update %lu: %zu KeyFrames, %zu points, rebuilt in %.1f ms",
+                   static_cast<unsigned long>(seq), out.keyframes, out.map_points, out.rebuild_ms);
   }
 
   bool on_set_map_updates(edge_slam_msgs::SetMapUpdates::Request& req, edge_slam_msgs::SetMapUpdates::Response& res) {

@@ -12,6 +12,7 @@ const char* to_string(UpdateDecision d) {
     case UpdateDecision::kRejectRedundant: return "redundant";
     case UpdateDecision::kRejectKeyFrameRate: return "keyframe_rate";
     case UpdateDecision::kRejectNotLost: return "not_lost";
+    case UpdateDecision::kDeferred: return "deferred";
   }
   return "unknown";
 }
@@ -28,7 +29,12 @@ double MapUpdatePolicy::time_constraint(int kfn) const {
 }
 
 UpdateDecision MapUpdatePolicy::decide(MapUpdateKind kind, const TrackingSnapshot& s) {
-  ++counters_.received;
+  const UpdateDecision d = evaluate(kind, s);
+  count(kind, d);
+  return d;
+}
+
+UpdateDecision MapUpdatePolicy::evaluate(MapUpdateKind kind, const TrackingSnapshot& s) const {
   UpdateDecision d = UpdateDecision::kAccept;
   // The controller is the user's/planner's explicit intent: it gates every kind of update.
   if (!enabled_) {
@@ -44,6 +50,12 @@ UpdateDecision MapUpdatePolicy::decide(MapUpdateKind kind, const TrackingSnapsho
   } else if (s.now - s.last_keyframe_time <= time_constraint(s.local_map_keyframes)) {
     d = UpdateDecision::kRejectKeyFrameRate;
   }
+  return d;
+}
+
+void MapUpdatePolicy::count(MapUpdateKind kind, UpdateDecision d) {
+  if (d == UpdateDecision::kDeferred) return;  // counted once its final decision is made
+  ++counters_.received;
   switch (d) {
     case UpdateDecision::kAccept:
       ++counters_.accepted;
@@ -54,8 +66,8 @@ UpdateDecision MapUpdatePolicy::decide(MapUpdateKind kind, const TrackingSnapsho
     case UpdateDecision::kRejectRedundant: ++counters_.rejected_redundant; break;
     case UpdateDecision::kRejectKeyFrameRate: ++counters_.rejected_keyframe_rate; break;
     case UpdateDecision::kRejectNotLost: ++counters_.rejected_not_lost; break;
+    case UpdateDecision::kDeferred: break;
   }
-  return d;
 }
 
 }  // namespace edge_slam

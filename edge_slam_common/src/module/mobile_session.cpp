@@ -21,6 +21,7 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.reference_min_observations = cfg.get_int_or("edge_slam/mobile_reference_min_observations", 2, 1, 100);
   p.ref_ratio = cfg.get_double_or("edge_slam/mobile_ref_ratio", 0.6, 0.05, 2.0);
   p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
+  p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
   return p;
 }
 
@@ -80,6 +81,7 @@ TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, 
   last_stamp_ = stamp;
   newest_created_.reset();
   TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
+  recheck_deferred_update(stamp);  // after the frame: an applied update serves the next one
   if (!r.pose_valid) return r;
   if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id())) {
     r.reference_kf_id = ref->id();
@@ -96,8 +98,7 @@ TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, 
   return r;
 }
 
-UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double now) {
-  std::lock_guard<std::mutex> lock(mutex_);  // pauses tracking for the whole rebuild
+TrackingSnapshot MobileSession::snapshot(double now) const {
   TrackingSnapshot s;
   s.initialized = tracking_.state() != TrackingState::kNotInitialized;
   s.lost = tracking_.state() == TrackingState::kLost;
@@ -105,10 +106,56 @@ UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double 
   s.now = now;
   s.last_keyframe_time = last_keyframe_stamp_;
   s.local_map_keyframes = static_cast<int>(map_->num_keyframes());
-  UpdateOutcome out;
-  out.decision = policy_.decide(update.kind, s);
-  if (out.decision != UpdateDecision::kAccept) return out;
+  return s;
+}
 
+UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double now) {
+  std::lock_guard<std::mutex> lock(mutex_);  // pauses tracking for the whole rebuild
+  // A newer periodic update supersedes one still waiting: that one is refused for good.
+  if (deferred_update_ && update.kind == MapUpdateKind::kPeriodic) {
+    policy_.count(MapUpdateKind::kPeriodic, UpdateDecision::kRejectKeyFrameRate);
+    deferred_update_.reset();
+  }
+  UpdateOutcome out;
+  out.decision = policy_.evaluate(update.kind, snapshot(now));
+  if (out.decision == UpdateDecision::kRejectKeyFrameRate && update.kind == MapUpdateKind::kPeriodic &&
+      params_.update_retry_window > 0) {
+    deferred_update_ = update;
+    deferred_since_ = now;
+    out.decision = UpdateDecision::kDeferred;
+    return out;
+  }
+  policy_.count(update.kind, out.decision);
+  if (out.decision != UpdateDecision::kAccept) return out;
+  if (deferred_update_) {  // an accepted relocalization update replaces the map it was for
+    policy_.count(MapUpdateKind::kPeriodic, UpdateDecision::kRejectKeyFrameRate);
+    deferred_update_.reset();
+  }
+  return rebuild_local_map(update);
+}
+
+void MobileSession::recheck_deferred_update(double now) {
+  if (!deferred_update_) return;
+  UpdateOutcome out;
+  out.decision = policy_.evaluate(MapUpdateKind::kPeriodic, snapshot(now));
+  // Still within a KeyFrame burst: wait, unless the window is over.
+  if (out.decision == UpdateDecision::kRejectKeyFrameRate && now - deferred_since_ <= params_.update_retry_window)
+    return;
+  policy_.count(MapUpdateKind::kPeriodic, out.decision);
+  if (out.decision == UpdateDecision::kAccept) out = rebuild_local_map(*deferred_update_);
+  deferred_outcome_.emplace(deferred_update_->seq, out);
+  deferred_update_.reset();
+}
+
+std::optional<std::pair<uint64_t, UpdateOutcome>> MobileSession::take_deferred_outcome() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto out = std::move(deferred_outcome_);
+  deferred_outcome_.reset();
+  return out;
+}
+
+UpdateOutcome MobileSession::rebuild_local_map(const MapUpdateRecord& update) {
+  UpdateOutcome out;
   const auto start = std::chrono::steady_clock::now();
   try {
     const RebuildStats stats = rebuild_from_update(*map_, update, camera_, pyramid_, vocabulary_.get());
@@ -157,6 +204,8 @@ bool MobileSession::reset() {
   tracking_.reset();
   newest_keyframe_.reset();
   keyframe_since_update_ = false;
+  if (deferred_update_) policy_.count(MapUpdateKind::kPeriodic, UpdateDecision::kRejectKeyFrameRate);
+  deferred_update_.reset();  // it belongs to the map that was just cleared
   return had_keyframe;
 }
 

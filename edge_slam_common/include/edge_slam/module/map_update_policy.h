@@ -24,6 +24,7 @@ enum class UpdateDecision {
   kRejectRedundant,     // (c)
   kRejectKeyFrameRate,  // (d)
   kRejectNotLost,       // a relocalization update that arrives after tracking recovered
+  kDeferred,            // refused by (d) on arrival, re-checked on the next frames (MobileSession)
 };
 
 const char* to_string(UpdateDecision d);
@@ -53,6 +54,9 @@ class MapUpdatePolicy {
 
   // Decides and counts. Thread-compatible: the caller serialises calls.
   UpdateDecision decide(MapUpdateKind kind, const TrackingSnapshot& s);
+  // The two halves of decide(), for an update whose final decision comes later (deferred).
+  UpdateDecision evaluate(MapUpdateKind kind, const TrackingSnapshot& s) const;
+  void count(MapUpdateKind kind, UpdateDecision d);
   void count_invalid() { ++counters_.received; ++counters_.rejected_invalid; }
 
   void set_enabled(bool enabled) { enabled_ = enabled; }

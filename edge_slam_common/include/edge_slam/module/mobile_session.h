@@ -32,6 +32,10 @@ struct MobileSessionParams {
   // reference just made, the monolithic 0.9 would ask for a KeyFrame at every frame.
   int reference_min_observations = 2;
   double ref_ratio = 0.6;
+  // A periodic update refused by rule (d) only (a KeyFrame was just made) is kept and re-checked
+  // on each frame for this many seconds instead of being dropped: bursts of KeyFrames are short,
+  // and the next update is a whole period away. 0 = refuse at once (the paper's behaviour).
+  double update_retry_window = 0.5;
 };
 
 class ConfigMap;
@@ -54,7 +58,10 @@ class MobileSession {
                 RgbEncoding encoding = RgbEncoding::kRgb);
 
   TrackingResult track(const cv::Mat& color, const cv::Mat& depth, double stamp);
+  // Decision kDeferred: kept and re-checked by track(); take_deferred_outcome() tells how it ended.
   UpdateOutcome apply_update(const MapUpdateRecord& update, double now);
+  // Once per deferred update, after the track() that applied or finally refused it: its seq and outcome.
+  std::optional<std::pair<uint64_t, UpdateOutcome>> take_deferred_outcome();
   void count_invalid_update();
   // A processed frame for relocalization assistance, when lost and the period has elapsed.
   std::optional<FrameRecord> take_relocalization_frame(double now);
@@ -82,6 +89,9 @@ class MobileSession {
  private:
   void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
   void note_local_map_size();
+  TrackingSnapshot snapshot(double now) const;             // mutex_ held
+  UpdateOutcome rebuild_local_map(const MapUpdateRecord& update);  // mutex_ held, update accepted
+  void recheck_deferred_update(double now);                // mutex_ held
 
   PinholeCamera camera_;
   std::shared_ptr<const BowVocabulary> vocabulary_;
@@ -104,6 +114,9 @@ class MobileSession {
   std::shared_ptr<KeyFrame> newest_created_;  // made during the current track() call
   size_t local_map_peak_ = 0;
   uint64_t dropped_by_cap_ = 0;
+  std::optional<MapUpdateRecord> deferred_update_;  // refused by (d) only, re-checked per frame
+  double deferred_since_ = 0;
+  std::optional<std::pair<uint64_t, UpdateOutcome>> deferred_outcome_;
 };
 
 }  // namespace edge_slam
