@@ -258,8 +258,9 @@ class MobileNodelet : public nodelet::Nodelet {
       NODELET_ERROR_THROTTLE(5.0, "map update %lu could not be applied: %s", static_cast<unsigned long>(update.seq),
                              out.error.c_str());
     else if (accepted)
-      NODELET_INFO("applied %s map update %lu: %zu KeyFrames, %zu points, rebuilt in %.1f ms", kind,
-                   static_cast<unsigned long>(update.seq), out.keyframes, out.map_points, out.rebuild_ms);
+      NODELET_INFO("applied %s map update %lu: %zu KeyFrames, %zu points, staged in %.1f ms, swapped in %.2f ms "
+                   "(tracking paused)", kind, static_cast<unsigned long>(update.seq), out.keyframes, out.map_points,
+                   out.stage_ms, out.rebuild_ms);
     else
       NODELET_DEBUG("map update %lu rejected: %s", static_cast<unsigned long>(update.seq), to_string(out.decision));
   }

@@ -438,7 +438,7 @@ def main():
         rebuild = pipeline_stats.rebuild_median(pipe.get("split"))
         source = "split run (mobile_stats.csv)"
         if rebuild is None and wire and wire.get("update_rebuild_ms", {}).get("count"):
-            rebuild, source = wire["update_rebuild_ms"]["median"], "wire micro-benchmark (rebuild_from_update)"
+            rebuild, source = wire["update_rebuild_ms"]["median"], "wire micro-benchmark (install_update)"
         if name == manifest["datasets"][0]["name"]:
             ok = None if rebuild is None else rebuild <= 20.0
             figure = "n/a" if rebuild is None else f"median {rebuild:.1f} ms ({source})"
@@ -551,8 +551,9 @@ def main():
         wsec.line(f"`wire_benchmark` on the first {wire['frames']} frames of `{os.path.basename(wire['dataset'])}` "
                   f"({wire['orb_features']} ORB features per frame): every KeyFrame the mobile session emits goes "
                   "through the bridge (`to_message`), `ros::serialization` and back (`from_message`); every 30 frames "
-                  "the edge session builds a Local-Map update that takes the same round trip and is rebuilt into an "
-                  "empty map (`rebuild_from_update`, what the mobile does when it accepts one).")
+                  "the edge session builds a Local-Map update that takes the same round trip and is applied to an "
+                  "empty map as the mobile applies one: staged off-line (`stage_update`: objects built, linked, BoW; "
+                  "tracking keeps running) then swapped in (`install_update`: the only part tracking waits for).")
         wsec.line()
         rows = []
         for key, label, scale, unit in [
@@ -563,7 +564,8 @@ def main():
                 ("update_keyframes", "update KeyFrames", 1, ""), ("update_points", "update map points", 1, ""),
                 ("update_bytes", "update wire size", 1e-3, " KB"), ("update_serialize_ms", "update serialize", 1, " ms"),
                 ("update_deserialize_ms", "update deserialize", 1, " ms"),
-                ("update_rebuild_ms", "Local-Map rebuild from the update", 1, " ms")]:
+                ("update_stage_ms", "Local-Map update staged off-line (tracking runs)", 1, " ms"),
+                ("update_rebuild_ms", "Local-Map swapped in (tracking paused)", 1, " ms")]:
             s = wire.get(key) or {}
             if s.get("count"):
                 rows.append([label, s["count"], fmt(s["mean"] * scale, ".2f", unit), fmt(s["median"] * scale, ".2f", unit),

@@ -140,6 +140,15 @@ void Map::rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
   for (const auto& kf : ordered) kf->update_connections(*this);
 }
 
+void Map::adopt(Map& staged) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  keyframes_.swap(staged.keyframes_);
+  map_points_.swap(staged.map_points_);
+  reference_map_points_.clear();
+  for (const auto& [id, kf] : keyframes_) raise_to(next_kf_id_, id + 1);
+  for (const auto& [id, mp] : map_points_) raise_map_point_ids_past(id);
+}
+
 void Map::set_reference_map_points(std::vector<std::shared_ptr<MapPoint>> mps) {
   std::lock_guard<std::mutex> lock(mutex_);
   reference_map_points_ = std::move(mps);

@@ -151,9 +151,8 @@ std::shared_ptr<MapPoint> map_point_from_new_point(const NewPointRecord& r, cons
   return mp;
 }
 
-RebuildStats rebuild_from_update(Map& map, const MapUpdateRecord& update, const PinholeCamera& camera,
-                                 std::shared_ptr<const ScalePyramid> pyramid, const BowVocabulary* vocabulary) {
-  // Build every object first: a bad record throws before the map is touched.
+StagedUpdate stage_update(const MapUpdateRecord& update, const PinholeCamera& camera,
+                          std::shared_ptr<const ScalePyramid> pyramid, const BowVocabulary* vocabulary) {
   if (std::string problem = map_update_record_problem(update); !problem.empty())
     throw std::invalid_argument("map update: " + problem);
   std::vector<std::shared_ptr<KeyFrame>> kfs;
@@ -173,15 +172,25 @@ RebuildStats rebuild_from_update(Map& map, const MapUpdateRecord& update, const 
     return n;
   };
   const size_t observations_before = count_observations();
-  {
-    std::lock_guard<std::mutex> lock(map.update_mutex());
-    map.rebuild(kfs, mps);
-  }
-  RebuildStats stats;
-  stats.keyframes = map.num_keyframes();
-  stats.map_points = map.num_map_points();
-  stats.dropped_observations = observations_before - count_observations();  // rebuild only removes
-  return stats;
+  StagedUpdate staged;
+  staged.map = std::make_unique<Map>();
+  staged.map->rebuild(kfs, mps);
+  staged.stats.keyframes = staged.map->num_keyframes();
+  staged.stats.map_points = staged.map->num_map_points();
+  staged.stats.dropped_observations = observations_before - count_observations();  // rebuild only removes
+  return staged;
+}
+
+void install_update(Map& map, StagedUpdate& staged) {
+  std::lock_guard<std::mutex> lock(map.update_mutex());
+  map.adopt(*staged.map);
+}
+
+RebuildStats rebuild_from_update(Map& map, const MapUpdateRecord& update, const PinholeCamera& camera,
+                                 std::shared_ptr<const ScalePyramid> pyramid, const BowVocabulary* vocabulary) {
+  StagedUpdate staged = stage_update(update, camera, std::move(pyramid), vocabulary);
+  install_update(map, staged);
+  return staged.stats;
 }
 
 }  // namespace edge_slam

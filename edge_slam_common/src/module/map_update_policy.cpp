@@ -13,6 +13,7 @@ const char* to_string(UpdateDecision d) {
     case UpdateDecision::kRejectKeyFrameRate: return "keyframe_rate";
     case UpdateDecision::kRejectNotLost: return "not_lost";
     case UpdateDecision::kDeferred: return "deferred";
+    case UpdateDecision::kRejectInvalid: return "invalid";
   }
   return "unknown";
 }
@@ -67,6 +68,7 @@ void MapUpdatePolicy::count(MapUpdateKind kind, UpdateDecision d) {
     case UpdateDecision::kRejectKeyFrameRate: ++counters_.rejected_keyframe_rate; break;
     case UpdateDecision::kRejectNotLost: ++counters_.rejected_not_lost; break;
     case UpdateDecision::kDeferred: break;
+    case UpdateDecision::kRejectInvalid: ++counters_.rejected_invalid; break;
   }
 }
 

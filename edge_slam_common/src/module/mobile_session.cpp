@@ -77,11 +77,12 @@ void MobileSession::note_local_map_size() {
 }
 
 TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, double stamp) {
+  std::shared_ptr<PendingUpdate> retired;  // an applied update's old Local-Map, freed after the lock
   std::lock_guard<std::mutex> lock(mutex_);
   last_stamp_ = stamp;
   newest_created_.reset();
   TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
-  recheck_deferred_update(stamp);  // after the frame: an applied update serves the next one
+  retired = recheck_deferred_update(stamp);  // after the frame: an applied update serves the next one
   if (!r.pose_valid) return r;
   if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id())) {
     r.reference_kf_id = ref->id();
@@ -110,17 +111,33 @@ TrackingSnapshot MobileSession::snapshot(double now) const {
 }
 
 UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double now) {
-  std::lock_guard<std::mutex> lock(mutex_);  // pauses tracking for the whole rebuild
+  // All the linear work first, while tracking runs: tracking pauses only to swap maps.
+  auto pending = std::make_shared<PendingUpdate>();
+  pending->seq = update.seq;
+  UpdateOutcome out;
+  const auto stage_start = std::chrono::steady_clock::now();
+  try {
+    pending->staged = stage_update(update, camera_, pyramid_, vocabulary_.get());
+  } catch (const std::exception& e) {
+    out.error = e.what();
+    out.decision = UpdateDecision::kRejectInvalid;
+    std::lock_guard<std::mutex> lock(mutex_);
+    policy_.count_invalid();
+    return out;
+  }
+  out.stage_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stage_start).count();
+
+  std::shared_ptr<PendingUpdate> superseded;  // freed after the lock is released
+  std::lock_guard<std::mutex> lock(mutex_);  // pauses tracking
   // A newer periodic update supersedes one still waiting: that one is refused for good.
   if (deferred_update_ && update.kind == MapUpdateKind::kPeriodic) {
     policy_.count(MapUpdateKind::kPeriodic, UpdateDecision::kRejectKeyFrameRate);
-    deferred_update_.reset();
+    superseded = std::move(deferred_update_);
   }
-  UpdateOutcome out;
   out.decision = policy_.evaluate(update.kind, snapshot(now));
   if (out.decision == UpdateDecision::kRejectKeyFrameRate && update.kind == MapUpdateKind::kPeriodic &&
       params_.update_retry_window > 0) {
-    deferred_update_ = update;
+    deferred_update_ = std::move(pending);
     deferred_since_ = now;
     out.decision = UpdateDecision::kDeferred;
     return out;
@@ -129,22 +146,23 @@ UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double 
   if (out.decision != UpdateDecision::kAccept) return out;
   if (deferred_update_) {  // an accepted relocalization update replaces the map it was for
     policy_.count(MapUpdateKind::kPeriodic, UpdateDecision::kRejectKeyFrameRate);
-    deferred_update_.reset();
+    superseded = std::move(deferred_update_);
   }
-  return rebuild_local_map(update);
+  install(*pending, out);
+  return out;
 }
 
-void MobileSession::recheck_deferred_update(double now) {
-  if (!deferred_update_) return;
+std::shared_ptr<MobileSession::PendingUpdate> MobileSession::recheck_deferred_update(double now) {
+  if (!deferred_update_) return nullptr;
   UpdateOutcome out;
   out.decision = policy_.evaluate(MapUpdateKind::kPeriodic, snapshot(now));
   // Still within a KeyFrame burst: wait, unless the window is over.
   if (out.decision == UpdateDecision::kRejectKeyFrameRate && now - deferred_since_ <= params_.update_retry_window)
-    return;
+    return nullptr;
   policy_.count(MapUpdateKind::kPeriodic, out.decision);
-  if (out.decision == UpdateDecision::kAccept) out = rebuild_local_map(*deferred_update_);
+  if (out.decision == UpdateDecision::kAccept) install(*deferred_update_, out);
   deferred_outcome_.emplace(deferred_update_->seq, out);
-  deferred_update_.reset();
+  return std::move(deferred_update_);
 }
 
 std::optional<std::pair<uint64_t, UpdateOutcome>> MobileSession::take_deferred_outcome() {
@@ -154,25 +172,18 @@ std::optional<std::pair<uint64_t, UpdateOutcome>> MobileSession::take_deferred_o
   return out;
 }
 
-UpdateOutcome MobileSession::rebuild_local_map(const MapUpdateRecord& update) {
-  UpdateOutcome out;
+void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   const auto start = std::chrono::steady_clock::now();
-  try {
-    const RebuildStats stats = rebuild_from_update(*map_, update, camera_, pyramid_, vocabulary_.get());
-    out.keyframes = stats.keyframes;
-    out.map_points = stats.map_points;
-  } catch (const std::exception& e) {
-    out.error = e.what();
-    return out;
-  }
+  install_update(*map_, pending.staged);  // pending.staged now holds the old Local-Map
   database_->clear();
   for (const auto& kf : map_->keyframes())
     if (kf->has_bow()) database_->add(kf);
   tracking_.relink_after_map_update();
   keyframe_since_update_ = false;
   note_local_map_size();
+  out.keyframes = pending.staged.stats.keyframes;
+  out.map_points = pending.staged.stats.map_points;
   out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return out;
 }
 
 void MobileSession::count_invalid_update() {

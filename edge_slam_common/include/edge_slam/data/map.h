@@ -39,6 +39,12 @@ class Map {
   void rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
                const std::vector<std::shared_ptr<MapPoint>>& mps);
 
+  // Takes `staged`'s keyframes and map points in O(1) (hash maps swapped; `staged` gets the old
+  // content, freed when the caller drops it) and moves the id allocators past the new ids: a
+  // Local-Map update is built and linked off-line in a staged map, and tracking pauses only for
+  // this. The caller holds update_mutex(); `staged` is private to the caller.
+  void adopt(Map& staged);
+
   void set_reference_map_points(std::vector<std::shared_ptr<MapPoint>> mps);
   std::vector<std::shared_ptr<MapPoint>> reference_map_points() const;
 

@@ -51,9 +51,21 @@ struct RebuildStats {
   size_t dropped_observations = 0;  // observations of points the update did not carry
 };
 
-// Replaces `map`'s content with the update's KeyFrames and MapPoints (linear time; Map::rebuild
-// re-links observations, covisibility and the spanning tree) and computes each KeyFrame's BoW
-// when a vocabulary is given. Throws std::invalid_argument (map untouched) on a bad record.
+// An update's KeyFrames and MapPoints built and linked (Map::rebuild: observations,
+// covisibility, spanning tree; BoW when a vocabulary is given) in a private map, ready to be
+// installed. All the linear work of applying an update, done without touching the live map.
+struct StagedUpdate {
+  std::unique_ptr<Map> map;
+  RebuildStats stats;
+};
+// Throws std::invalid_argument on a bad record.
+StagedUpdate stage_update(const MapUpdateRecord& update, const PinholeCamera& camera,
+                          std::shared_ptr<const ScalePyramid> pyramid, const BowVocabulary* vocabulary);
+// Swaps the staged content into `map` (O(1), under its update_mutex). `staged` then holds the
+// old content: drop it outside any lock the caller wants short.
+void install_update(Map& map, StagedUpdate& staged);
+
+// stage_update + install_update. Throws std::invalid_argument (map untouched) on a bad record.
 RebuildStats rebuild_from_update(Map& map, const MapUpdateRecord& update, const PinholeCamera& camera,
                                  std::shared_ptr<const ScalePyramid> pyramid, const BowVocabulary* vocabulary);
 

@@ -25,6 +25,7 @@ enum class UpdateDecision {
   kRejectKeyFrameRate,  // (d)
   kRejectNotLost,       // a relocalization update that arrives after tracking recovered
   kDeferred,            // refused by (d) on arrival, re-checked on the next frames (MobileSession)
+  kRejectInvalid,       // a record the rebuild refused (counted by count_invalid())
 };
 
 const char* to_string(UpdateDecision d);

@@ -13,6 +13,7 @@
 
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
+#include "edge_slam/io/map_records.h"
 #include "edge_slam/io/wire_records.h"
 #include "edge_slam/module/map_update_policy.h"
 #include "edge_slam/module/tracking.h"
@@ -45,7 +46,8 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg);
 
 struct UpdateOutcome {
   UpdateDecision decision = UpdateDecision::kAccept;
-  double rebuild_ms = 0;        // Local-Map clear + rebuild (tracking paused)
+  double stage_ms = 0;          // objects built and linked off-line (tracking runs meanwhile)
+  double rebuild_ms = 0;        // Local-Map replaced by the staged one (tracking paused)
   size_t keyframes = 0, map_points = 0;
   std::string error;            // a record the rebuild refused (the Local-Map is unchanged)
 };
@@ -89,9 +91,14 @@ class MobileSession {
  private:
   void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
   void note_local_map_size();
-  TrackingSnapshot snapshot(double now) const;             // mutex_ held
-  UpdateOutcome rebuild_local_map(const MapUpdateRecord& update);  // mutex_ held, update accepted
-  void recheck_deferred_update(double now);                // mutex_ held
+  struct PendingUpdate {
+    uint64_t seq = 0;
+    StagedUpdate staged;
+  };
+  TrackingSnapshot snapshot(double now) const;                 // mutex_ held
+  void install(PendingUpdate& pending, UpdateOutcome& out);    // mutex_ held, update accepted
+  // mutex_ held; returns the update it decided on (to be freed outside the lock), if any
+  std::shared_ptr<PendingUpdate> recheck_deferred_update(double now);
 
   PinholeCamera camera_;
   std::shared_ptr<const BowVocabulary> vocabulary_;
@@ -114,7 +121,7 @@ class MobileSession {
   std::shared_ptr<KeyFrame> newest_created_;  // made during the current track() call
   size_t local_map_peak_ = 0;
   uint64_t dropped_by_cap_ = 0;
-  std::optional<MapUpdateRecord> deferred_update_;  // refused by (d) only, re-checked per frame
+  std::shared_ptr<PendingUpdate> deferred_update_;  // refused by (d) only, re-checked per frame
   double deferred_since_ = 0;
   std::optional<std::pair<uint64_t, UpdateOutcome>> deferred_outcome_;
 };
