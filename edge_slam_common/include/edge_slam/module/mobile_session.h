@@ -78,6 +78,8 @@ class MobileSession {
   TrackingCounters tracking_counters() const;
   std::shared_ptr<const Map> local_map() const { return map_; }
   uint64_t keyframes_sent() const;
+  // Every KeyFrame id tracking created, in order (4 bytes each): the delivery accounting.
+  std::vector<uint32_t> keyframe_ids_created() const;
 
  private:
   void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
@@ -104,6 +106,7 @@ class MobileSession {
   std::shared_ptr<KeyFrame> newest_created_;  // made during the current track() call
   size_t local_map_peak_ = 0;
   uint64_t dropped_by_cap_ = 0;
+  std::vector<uint32_t> created_ids_;
 };
 
 }  // namespace edge_slam
