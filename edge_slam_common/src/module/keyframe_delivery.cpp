@@ -3,7 +3,16 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "edge_slam/io/config_file.h"
+
 namespace edge_slam {
+
+DeliveryParams load_delivery_params(const ConfigMap& cfg) {
+  DeliveryParams p;
+  p.capacity = static_cast<size_t>(cfg.get_int_or("delivery/resend_capacity", 2000, 1, 100000));
+  p.resend_timeout = cfg.get_double_or("delivery/resend_timeout", 1.0, 0.05, 60.0);
+  return p;
+}
 
 KeyFrameDelivery::KeyFrameDelivery(const DeliveryParams& params) : params_(params) {
   if (params_.capacity == 0) throw std::invalid_argument("KeyFrame delivery capacity must be >= 1");

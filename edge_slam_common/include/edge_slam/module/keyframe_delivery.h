@@ -31,6 +31,10 @@ struct DeliveryParams {
   double resend_timeout = 1.0;  // seconds without acknowledgement before a record is sent again
 };
 
+class ConfigMap;
+// The "delivery:" section of config/slam.yaml; throws naming the key and range on a bad value.
+DeliveryParams load_delivery_params(const ConfigMap& cfg);
+
 struct DeliveryCounters {
   uint64_t added = 0, sent = 0, resent = 0, acknowledged = 0, durable = 0, dropped_by_bound = 0;
   size_t queued = 0;
