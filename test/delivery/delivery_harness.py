@@ -174,19 +174,32 @@ class SplitRun:
             subprocess.run(['ip', 'netns', 'del', self.ns[side]], stderr=subprocess.DEVNULL)
 
     # ---- figures ----
-    def mobile_peak_rss_mb(self):
-        """VmHWM of the mobile's nodelet manager (a child of our mobile roslaunch)."""
-        parent = self.procs['mobile'].pid
+    def child(self, key, name):
+        """(pid, /proc status text) of the node `name` (e.g. mobile_manager) our roslaunch `key`
+        started: roslaunch puts its nodes in their own sessions, so it is found by parent pid."""
+        parent = self.procs[key].pid
         for pid in filter(str.isdigit, os.listdir('/proc')):
             try:
                 status = open('/proc/%s/status' % pid).read()
-                cmdline = open('/proc/%s/cmdline' % pid).read()
+                cmdline = open('/proc/%s/cmdline' % pid).read().split('\0')
             except OSError:
                 continue
-            ppid = int(status.split('PPid:')[1].split()[0])
-            if ppid == parent and 'mobile_manager' in cmdline and ' manager' in cmdline.replace('\0', ' '):
-                return int(status.split('VmHWM:')[1].split()[0]) / 1024.0
-        return float('nan')
+            if int(status.split('PPid:')[1].split()[0]) == parent and '__name:=' + name in cmdline:
+                return int(pid), status
+        return None, ''
+
+    def kill_edge(self):
+        """SIGKILL the edge's nodelet manager (the edge process), then let its roslaunch go."""
+        pid, _ = self.child('edge', 'edge_manager')
+        if pid is None:
+            raise AssertionError('no edge nodelet manager process found')
+        os.kill(pid, signal.SIGKILL)
+        self.stop('edge')
+
+    def mobile_peak_rss_mb(self):
+        """VmHWM of the mobile's nodelet manager."""
+        _, status = self.child('mobile', 'mobile_manager')
+        return int(status.split('VmHWM:')[1].split()[0]) / 1024.0 if status else float('nan')
 
     def stats_rows(self):
         rows = []

@@ -4,7 +4,6 @@ bag (half speed); the edge process is SIGKILLed ~10 s into the bag and started a
 restoring its Global-Map from the checkpoint. Every KeyFrame the mobile made must be accounted
 for on the edge (received: in the Global-Map, culled, or rejected by condition 1/2), the mobile
 keeps tracking through the outage, and its ATE stays within 2x an undisturbed run's."""
-import signal
 import sys
 import time
 import unittest
@@ -16,7 +15,7 @@ def kill_and_restart(run):
     run.wait(lambda: run.bag_seconds() >= 10.0, 120, '10 s of bag')
     cp = run.call('edge', '/edge_slam/edge/status') or {}
     start = time.time()
-    run.stop('edge', sig=signal.SIGKILL)
+    run.kill_edge()
     print('\n[edge_restart] edge SIGKILLed at bag %.1f s (checkpoints written %s, durable seq %s)' % (
         run.bag_seconds(), cp.get('checkpoints'), cp.get('durable_seq')), file=sys.stderr)
     time.sleep(5.0)
