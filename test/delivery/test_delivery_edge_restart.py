@@ -6,8 +6,10 @@ for on the edge (received: in the Global-Map, culled, or rejected by condition 1
 keeps tracking through the outage, and its ATE stays within 2x an undisturbed run's."""
 import sys
 import time
+import os
 import unittest
 
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))  # nosetests -P adds no path
 from delivery_harness import run_disturbed
 
 

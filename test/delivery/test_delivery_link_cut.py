@@ -5,8 +5,10 @@ Same accounting, tracking and ATE checks as the edge-restart test, plus: the mob
 never exceeded its cap. Needs root (ip netns); without it the test fails, it does not skip."""
 import sys
 import time
+import os
 import unittest
 
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))  # nosetests -P adds no path
 from delivery_harness import run_disturbed
 
 
