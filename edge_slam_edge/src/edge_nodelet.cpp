@@ -1,11 +1,16 @@
 // The Edge-SLAM edge nodelet: ROS plumbing around edge_slam::EdgeSession.
-//   in:  keyframes (always taken; conditions 1-2 decide insertion), frames (relocalization)
-//   out: map_updates (Local-Map Update Module timer; relocalization answers), ~global_map
+//   in:  keyframes (always taken; conditions 1-2 decide insertion), frames (relocalization),
+//        keyframe_floor (std_msgs/UInt64: seqs the mobile will never send again)
+//   out: map_updates (Local-Map Update Module timer; relocalization answers), keyframe_acks
+//        (5 Hz: received / durable KeyFrame seqs and the boot id), ~global_map
 //        (PointCloud2), ~keyframes (MarkerArray), ~keyframe_path (nav_msgs/Path), ~loops
 //        (one line per loop closed), ~stats (1 Hz)
-//   srv: ~status (edge_slam_msgs/GetEdgeStatus: counters and KeyFrame id accounting)
+//   srv: ~status (edge_slam_msgs/GetEdgeStatus: counters and KeyFrame id accounting),
+//        ~save_map, ~load_map (edge_slam_msgs/MapFile; an empty path means ~checkpoint_file)
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
-// ~stats_csv, ~metrics_file, ~keyframes_file (the Global-Map's KeyFrame poses; empty = not written).
+// ~stats_csv, ~metrics_file, ~keyframes_file (the Global-Map's KeyFrame poses; empty = not written),
+// ~checkpoint_file (empty = no persistence), ~restore_on_start (true); the checkpoint period is
+// delivery/checkpoint_period in the slam config.
 // Malformed messages are rejected with one throttled error and counted; nothing crashes.
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/metrics_json.h>
@@ -19,14 +24,20 @@
 #include <edge_slam_bridge/node_config.h>
 #include <edge_slam_bridge/pose_conversion.h>
 #include <edge_slam_msgs/GetEdgeStatus.h>
+#include <edge_slam_msgs/KeyFrameAck.h>
+#include <edge_slam_msgs/MapFile.h>
 #include <edge_slam_msgs/Stats.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
+#include <std_msgs/UInt64.h>
+#include <sys/stat.h>
 
 #include <atomic>
+#include <cstdio>
+#include <random>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -40,7 +51,11 @@ size_t wire_size(const M& msg) {
 
 class EdgeNodelet : public nodelet::Nodelet {
  public:
-  ~EdgeNodelet() override { write_metrics(); }
+  ~EdgeNodelet() override {
+    checkpoint_timer_.stop();
+    checkpoint("shutdown");
+    write_metrics();
+  }
 
  private:
   void onInit() override {
@@ -49,6 +64,10 @@ class EdgeNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("metrics_file", metrics_file_, "");
     pnh.param<std::string>("keyframes_file", keyframes_file_, "");
+    pnh.param<std::string>("checkpoint_file", checkpoint_file_, "");
+    bool restore_on_start = true;
+    pnh.param("restore_on_start", restore_on_start, true);
+    double checkpoint_period = 5.0;
     std::string stats_csv;
     pnh.param<std::string>("stats_csv", stats_csv, "");
     double update_period = 5.0;
@@ -56,6 +75,7 @@ class EdgeNodelet : public nodelet::Nodelet {
       const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
       const edge_slam::OrbParams orb = edge_slam::load_orb_params(cfg.slam);
       update_period = cfg.slam.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
+      checkpoint_period = cfg.slam.get_double_or("delivery/checkpoint_period", 5.0, 0.5, 3600.0);
       events_ = std::make_unique<edge_slam::EventLog>(stats_csv);
       session_ = std::make_unique<edge_slam::EdgeSession>(cfg.camera, orb.num_levels, orb.scale_factor,
                                                           cfg.vocabulary, edge_slam::load_edge_session_params(cfg.slam));
@@ -63,6 +83,8 @@ class EdgeNodelet : public nodelet::Nodelet {
       NODELET_FATAL("cannot start the edge: %s", e.what());
       return;
     }
+    boot_id_ = new_boot_id();
+    if (!checkpoint_file_.empty() && restore_on_start) restore_checkpoint();
     update_pub_ = nh.advertise<edge_slam_msgs::MapUpdate>("map_updates", 10);
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("global_map", 1, true);
     marker_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true);
@@ -70,11 +92,20 @@ class EdgeNodelet : public nodelet::Nodelet {
     loop_pub_ = pnh.advertise<std_msgs::String>("loops", 10, true);
     stats_pub_ = pnh.advertise<edge_slam_msgs::Stats>("stats", 10);
     status_srv_ = pnh.advertiseService("status", &EdgeNodelet::on_status, this);
+    save_srv_ = pnh.advertiseService("save_map", &EdgeNodelet::on_save_map, this);
+    load_srv_ = pnh.advertiseService("load_map", &EdgeNodelet::on_load_map, this);
+    ack_pub_ = nh.advertise<edge_slam_msgs::KeyFrameAck>("keyframe_acks", 10);
+    floor_sub_ = nh.subscribe("keyframe_floor", 10, &EdgeNodelet::on_floor, this);
     keyframe_sub_ = nh.subscribe("keyframes", 1000, &EdgeNodelet::on_keyframe, this);
     frame_sub_ = nh.subscribe("frames", 5, &EdgeNodelet::on_frame, this);
     update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) { send_update(); });
     display_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_map(); });
     stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
+    // Acknowledgements at a steady 5 Hz: cheap, and a mobile that reconnects learns the state at once.
+    ack_timer_ = nh.createWallTimer(ros::WallDuration(0.2), [this](const ros::WallTimerEvent&) { publish_ack(); });
+    if (!checkpoint_file_.empty())
+      checkpoint_timer_ = nh.createWallTimer(ros::WallDuration(checkpoint_period),
+                                             [this](const ros::WallTimerEvent&) { checkpoint("periodic"); });
     NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map, updates every %.1f s", update_period);
   }
 
@@ -105,6 +136,107 @@ class EdgeNodelet : public nodelet::Nodelet {
       NODELET_WARN("reset requested by the mobile (KeyFrame %u): Global-Map cleared", record.id);
     else
       NODELET_DEBUG("KeyFrame %u: %s", record.id, edge_slam::to_string(v));
+  }
+
+  static uint64_t new_boot_id() {
+    std::random_device rd;
+    return (static_cast<uint64_t>(rd()) << 32) ^ rd() ^ static_cast<uint64_t>(edge_slam::wall_clock_seconds() * 1e6);
+  }
+
+  void on_floor(const std_msgs::UInt64::ConstPtr& msg) { session_->skip_keyframes_through(msg->data); }
+
+  void publish_ack() {
+    edge_slam_msgs::KeyFrameAck ack;
+    ack.boot_id = boot_id_;
+    ack.received_seq = session_->counters().received_seq;
+    ack.persistent = !checkpoint_file_.empty();
+    ack.durable_seq = durable_seq_;
+    ack_pub_.publish(ack);
+  }
+
+  // A restored Global-Map is durable by definition (it came from the file). A corrupt or
+  // unreadable file: one clear error, the file kept aside for inspection, and an empty start.
+  void restore_checkpoint() {
+    struct stat st;
+    if (::stat(checkpoint_file_.c_str(), &st) != 0) {
+      NODELET_INFO("no checkpoint at %s yet: starting with an empty Global-Map", checkpoint_file_.c_str());
+      return;
+    }
+    try {
+      session_->load_map(checkpoint_file_);
+      durable_seq_ = session_->counters().received_seq;
+      NODELET_INFO("restored the Global-Map from %s: %zu KeyFrames, KeyFrame seqs up to %lu", checkpoint_file_.c_str(),
+                   session_->global_map()->num_keyframes(), static_cast<unsigned long>(durable_seq_.load()));
+    } catch (const std::exception& e) {
+      const std::string aside =
+          checkpoint_file_ + ".corrupt-" + std::to_string(static_cast<long long>(edge_slam::wall_clock_seconds()));
+      const bool moved = std::rename(checkpoint_file_.c_str(), aside.c_str()) == 0;
+      NODELET_ERROR("cannot restore the checkpoint (%s): starting with an empty Global-Map; the file %s", e.what(),
+                    moved ? ("was renamed " + aside).c_str() : "could not be renamed and will be overwritten");
+    }
+  }
+
+  // The session snapshots under its locks and writes outside them; `checkpointing_` only keeps
+  // two writers (timer, service, shutdown) from racing for the same temporary file.
+  bool checkpoint(const char* why, std::string* error = nullptr) {
+    if (!session_ || checkpoint_file_.empty()) return false;
+    if (checkpointing_.exchange(true)) return false;
+    bool ok = true;
+    try {
+      const uint64_t durable = session_->save_map(checkpoint_file_);
+      if (durable > durable_seq_) durable_seq_ = durable;
+      ++checkpoints_;
+      NODELET_DEBUG("%s checkpoint: KeyFrame seqs up to %lu durable", why, static_cast<unsigned long>(durable));
+    } catch (const std::exception& e) {
+      ok = false;
+      if (error) *error = e.what();
+      NODELET_ERROR_THROTTLE(30.0, "%s checkpoint failed: %s", why, e.what());
+    }
+    checkpointing_ = false;
+    return ok;
+  }
+
+  bool on_save_map(edge_slam_msgs::MapFile::Request& req, edge_slam_msgs::MapFile::Response& res) {
+    const std::string path = req.path.empty() ? checkpoint_file_ : req.path;
+    if (path.empty()) {
+      res.ok = false;
+      res.message = "no path given and no ~checkpoint_file set";
+      return true;
+    }
+    std::string error;
+    if (path == checkpoint_file_) {
+      res.ok = checkpoint("requested", &error);
+      if (!res.ok && error.empty()) error = "a checkpoint is being written right now; try again";
+    } else {
+      try {
+        session_->save_map(path);
+        res.ok = true;
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    }
+    res.message = res.ok ? "Global-Map saved to " + path : error;
+    return true;
+  }
+
+  // A loaded map is a new session for the mobile (new boot id): it resends all it holds beyond
+  // what the map says was received; until the next checkpoint nothing more is durable.
+  bool on_load_map(edge_slam_msgs::MapFile::Request& req, edge_slam_msgs::MapFile::Response& res) {
+    const std::string path = req.path.empty() ? checkpoint_file_ : req.path;
+    try {
+      if (path.empty()) throw std::runtime_error("no path given and no ~checkpoint_file set");
+      session_->load_map(path);
+      durable_seq_ = path == checkpoint_file_ ? session_->counters().received_seq : 0;
+      boot_id_ = new_boot_id();
+      res.ok = true;
+      res.message = "Global-Map loaded from " + path + ": " +
+                    std::to_string(session_->global_map()->num_keyframes()) + " KeyFrames";
+      NODELET_WARN("%s", res.message.c_str());
+    } catch (const std::exception& e) {
+      res.ok = false;
+      res.message = e.what();
+    }
+    return true;
   }
 
   void on_frame(const edge_slam_msgs::Frame::ConstPtr& msg) {
@@ -170,6 +302,11 @@ class EdgeNodelet : public nodelet::Nodelet {
     res.inserted_ids = a.inserted;
     res.culled_ids = a.culled;
     res.global_map_ids = a.in_map;
+    res.received_ids = a.received;
+    res.received_seq = c.received_seq;
+    res.durable_seq = durable_seq_;
+    res.boot_id = boot_id_;
+    res.checkpoints = static_cast<uint32_t>(checkpoints_);
     return true;
   }
 
@@ -234,6 +371,9 @@ class EdgeNodelet : public nodelet::Nodelet {
     add("global_map_points", static_cast<double>(map->num_map_points()));
     add("loops_closed", static_cast<double>(loops.size()));
     add("mapping_idle", session_->mapping_idle() ? 1.0 : 0.0);
+    add("keyframe_received_seq", static_cast<double>(c.received_seq));
+    add("keyframe_durable_seq", static_cast<double>(durable_seq_));
+    add("checkpoints", static_cast<double>(checkpoints_));
     {
       std::lock_guard<std::mutex> lock(figures_mutex_);
       add("updates_sent", static_cast<double>(updates_sent_));
@@ -296,18 +436,20 @@ class EdgeNodelet : public nodelet::Nodelet {
 
   std::unique_ptr<edge_slam::EdgeSession> session_;
   std::unique_ptr<edge_slam::EventLog> events_;
-  std::string map_frame_, metrics_file_, keyframes_file_;
+  std::string map_frame_, metrics_file_, keyframes_file_, checkpoint_file_;
+  std::atomic<uint64_t> boot_id_{0}, durable_seq_{0}, checkpoints_{0};
+  std::atomic<bool> checkpointing_{false};
   std::atomic<uint64_t> invalid_{0};
   size_t loops_announced_ = 0;  // stats timer only
   std::mutex write_mutex_;      // metrics.json writers (timer, destructor)
   std::mutex figures_mutex_;    // the figures below: message callbacks vs timers
   std::vector<double> keyframe_latency_ms_, update_build_ms_;
   uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
-  ros::Publisher update_pub_, cloud_pub_, marker_pub_, path_pub_, loop_pub_, stats_pub_;
-  ros::Subscriber keyframe_sub_, frame_sub_;
-  ros::ServiceServer status_srv_;
+  ros::Publisher ack_pub_, update_pub_, cloud_pub_, marker_pub_, path_pub_, loop_pub_, stats_pub_;
+  ros::Subscriber keyframe_sub_, frame_sub_, floor_sub_;
+  ros::ServiceServer status_srv_, save_srv_, load_srv_;
   ros::Timer update_timer_;
-  ros::WallTimer display_timer_, stats_timer_;
+  ros::WallTimer display_timer_, stats_timer_, ack_timer_, checkpoint_timer_;
 };
 
 }  // namespace edge_slam_edge

@@ -1,9 +1,12 @@
 // The Edge-SLAM mobile nodelet: ROS plumbing around edge_slam::MobileSession.
 //   in:  rgb/image + depth/image (image_transport, approximate-time synchronised),
 //        rgb/camera_info (intrinsics; YAML when absent), map_updates
-//   out: keyframes (sender thread), frames (while lost), TF map -> camera, ~odometry, ~path,
+//        keyframe_acks (the edge's delivery acknowledgements)
+//   out: keyframes (sender thread: first sends and resends), keyframe_floor (std_msgs/UInt64,
+//        seqs the edge will never get again), frames (while lost), TF map -> camera, ~odometry, ~path,
 //        ~local_map (PointCloud2), ~keyframes (MarkerArray), ~state, ~stats (1 Hz)
-//   srv: ~set_map_updates, ~map_update_status (the map-update controller), ~reset
+//   srv: ~set_map_updates, ~map_update_status (the map-update controller), ~reset,
+//        ~delivery_status (KeyFrame delivery counters and the ids created)
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
 // ~camera_frame, ~use_camera_info (true), ~camera_info_timeout (s), ~stats_csv, ~metrics_file,
 // ~trajectory_file (empty = not written), ~path_max_poses. Bad input is logged once
@@ -11,6 +14,7 @@
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/output_path.h>
 #include <edge_slam/io/trajectory_io.h>
+#include <edge_slam/module/keyframe_delivery.h>
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam/module/tracking_params.h>
 #include <edge_slam/util/wall_clock.h>
@@ -18,7 +22,9 @@
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_bridge/node_config.h>
 #include <edge_slam_bridge/pose_conversion.h>
+#include <edge_slam_msgs/GetDeliveryStatus.h>
 #include <edge_slam_msgs/GetMapUpdateStatus.h>
+#include <edge_slam_msgs/KeyFrameAck.h>
 #include <edge_slam_msgs/SetMapUpdates.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <image_transport/subscriber_filter.h>
@@ -30,6 +36,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
+#include <std_msgs/UInt64.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -84,6 +91,7 @@ class MobileNodelet : public nodelet::Nodelet {
       tracking_ = edge_slam::load_tracking_params(config_.slam);  // MobileSession keeps conditions 3-5 only
       orb_ = edge_slam::load_orb_params(config_.slam);
       session_params_ = edge_slam::load_mobile_session_params(config_.slam);
+      delivery_ = std::make_unique<edge_slam::KeyFrameDelivery>(edge_slam::load_delivery_params(config_.slam));
       events_ = std::make_unique<edge_slam::EventLog>(stats_csv);
       if (!trajectory_file.empty()) {
         edge_slam::ensure_parent_directory(trajectory_file);
@@ -104,6 +112,9 @@ class MobileNodelet : public nodelet::Nodelet {
     }
 
     keyframe_pub_ = nh.advertise<edge_slam_msgs::KeyFrame>("keyframes", 200);
+    floor_pub_ = nh.advertise<std_msgs::UInt64>("keyframe_floor", 10);
+    ack_sub_ = nh.subscribe("keyframe_acks", 20, &MobileNodelet::on_ack, this);
+    delivery_srv_ = pnh.advertiseService("delivery_status", &MobileNodelet::on_delivery_status, this);
     frame_pub_ = nh.advertise<edge_slam_msgs::Frame>("frames", 10);
     odometry_pub_ = pnh.advertise<nav_msgs::Odometry>("odometry", 10);
     path_pub_ = pnh.advertise<nav_msgs::Path>("path", 1, true);
@@ -217,22 +228,69 @@ class MobileNodelet : public nodelet::Nodelet {
     }
   }
 
-  // Drains the outbox: tracking only ever pushes, so network trouble never stalls it.
+  // Drains the outbox into the delivery queue (tracking only ever pushes, so network trouble
+  // never stalls it), then sends what is due: new records and unacknowledged ones again.
   void send_keyframes() {
+    double last_floor = 0;
     while (running_) {
       auto s = session();
       if (!s) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
         continue;
       }
-      std::optional<edge_slam::KeyFrameRecord> record = s->outbox().pop_for(std::chrono::milliseconds(200));
-      if (!record) continue;
-      const edge_slam_msgs::KeyFrame msg = edge_slam::to_message(*record);
-      const size_t bytes = wire_size(msg);
-      keyframe_pub_.publish(msg);
-      metrics_.on_keyframe_sent(bytes);
-      log_event("keyframe_sent", record->stamp, record->seq, bytes, -1, -1, -1, record->reset ? "reset" : "");
+      if (auto record = s->outbox().pop_for(std::chrono::milliseconds(100))) {
+        do {
+          if (!delivery_->add(std::make_shared<const edge_slam::KeyFrameRecord>(std::move(*record))))
+            NODELET_WARN_THROTTLE(5.0, "KeyFrame resend queue full: the oldest unacknowledged record was dropped");
+        } while ((record = s->outbox().try_pop()));
+      }
+      // Nobody listening (edge down): keep them; the edge's next acknowledgement brings them out.
+      if (keyframe_pub_.getNumSubscribers() == 0) continue;
+      const double now = edge_slam::wall_clock_seconds();
+      for (const auto& record : delivery_->take_due(now)) {
+        const edge_slam_msgs::KeyFrame msg = edge_slam::to_message(*record);
+        const size_t bytes = wire_size(msg);
+        keyframe_pub_.publish(msg);
+        metrics_.on_keyframe_sent(bytes);
+        log_event("keyframe_sent", record->stamp, record->seq, bytes, -1, -1, -1, record->reset ? "reset" : "");
+      }
+      if (now - last_floor >= 0.2) {
+        std_msgs::UInt64 floor;
+        floor.data = delivery_->floor();
+        floor_pub_.publish(floor);
+        last_floor = now;
+      }
     }
+  }
+
+  void on_ack(const edge_slam_msgs::KeyFrameAck::ConstPtr& msg) {
+    edge_slam::KeyFrameAck ack;
+    ack.boot_id = msg->boot_id;
+    ack.received_seq = msg->received_seq;
+    ack.durable_seq = msg->durable_seq;
+    ack.persistent = msg->persistent;
+    const uint64_t restarts = delivery_->counters().edge_restarts;
+    delivery_->on_ack(ack, edge_slam::wall_clock_seconds());
+    if (delivery_->counters().edge_restarts != restarts)
+      NODELET_WARN("the edge restarted (durable up to KeyFrame seq %lu): resending what came after",
+                   static_cast<unsigned long>(ack.durable_seq));
+  }
+
+  bool on_delivery_status(edge_slam_msgs::GetDeliveryStatus::Request&, edge_slam_msgs::GetDeliveryStatus::Response& res) {
+    const edge_slam::DeliveryCounters c = delivery_->counters();
+    auto s = session();
+    res.created = s ? s->keyframe_ids_created().size() : 0;
+    res.sent = c.sent;
+    res.resent = c.resent;
+    res.acknowledged = c.acknowledged;
+    res.durable = c.durable;
+    res.dropped_by_bound = c.dropped_by_bound;
+    res.dropped_by_outbox = s ? s->outbox().evictions() : 0;
+    res.queued = c.queued;
+    res.edge_restarts = c.edge_restarts;
+    res.seconds_since_ack = delivery_->seconds_since_ack(edge_slam::wall_clock_seconds());
+    if (s) res.created_ids = s->keyframe_ids_created();
+    return true;
   }
 
   void on_map_update(const edge_slam_msgs::MapUpdate::ConstPtr& msg) {
@@ -405,6 +463,20 @@ class MobileNodelet : public nodelet::Nodelet {
     auto s = session();
     if (!s) return;
     edge_slam_msgs::Stats m = metrics_.stats(*s);
+    const edge_slam::DeliveryCounters d = delivery_->counters();
+    auto add = [&m](const char* name, double v) {
+      m.names.push_back(name);
+      m.values.push_back(v);
+    };
+    add("delivery_created", static_cast<double>(s->keyframes_sent()));
+    add("delivery_sent", static_cast<double>(d.sent));
+    add("delivery_resent", static_cast<double>(d.resent));
+    add("delivery_acknowledged", static_cast<double>(d.acknowledged));
+    add("delivery_durable", static_cast<double>(d.durable));
+    add("delivery_dropped_by_bound", static_cast<double>(d.dropped_by_bound));
+    add("delivery_queued", static_cast<double>(d.queued));
+    add("delivery_edge_restarts", static_cast<double>(d.edge_restarts));
+    add("link_seconds_since_ack", delivery_->seconds_since_ack(edge_slam::wall_clock_seconds()));
     m.header.stamp = ros::Time::now();
     stats_pub_.publish(m);
     events_->flush();
@@ -428,6 +500,7 @@ class MobileNodelet : public nodelet::Nodelet {
   edge_slam::TrackingParams tracking_;
   edge_slam::OrbParams orb_;
   edge_slam::MobileSessionParams session_params_;
+  std::unique_ptr<edge_slam::KeyFrameDelivery> delivery_;  // sender thread + ack callback (thread-safe)
   std::string map_frame_, camera_frame_, metrics_file_, dataset_;
   bool use_camera_info_ = true;
   double camera_info_timeout_ = 2.0;
@@ -457,9 +530,9 @@ class MobileNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::SubscriberFilter rgb_sub_, depth_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
-  ros::Publisher keyframe_pub_, frame_pub_, odometry_pub_, path_pub_, cloud_pub_, marker_pub_, state_pub_, stats_pub_;
-  ros::Subscriber update_sub_, info_sub_;
-  ros::ServiceServer set_srv_, status_srv_, reset_srv_;
+  ros::Publisher keyframe_pub_, floor_pub_, frame_pub_, odometry_pub_, path_pub_, cloud_pub_, marker_pub_, state_pub_, stats_pub_;
+  ros::Subscriber update_sub_, info_sub_, ack_sub_;
+  ros::ServiceServer set_srv_, status_srv_, reset_srv_, delivery_srv_;
   ros::WallTimer display_timer_, stats_timer_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 };

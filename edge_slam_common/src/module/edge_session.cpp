@@ -71,6 +71,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.received;
   counters_.last_seq = std::max(counters_.last_seq, r.seq);
+  receipts_.mark(r.seq);  // whatever the verdict: a resend would get the same one
   if (r.reset) {
     reset_locked();
     ++counters_.resets;
@@ -123,6 +124,11 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
   any_inserted_ = true;
   ++counters_.inserted;
   return KeyFrameVerdict::kInserted;
+}
+
+void EdgeSession::skip_keyframes_through(uint64_t floor) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  receipts_.skip_through(floor);
 }
 
 MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs) const {
@@ -207,13 +213,14 @@ void EdgeSession::reset_locked() {
   start_modules();
 }
 
-void EdgeSession::save_map(const std::string& path) const {
+uint64_t EdgeSession::save_map(const std::string& path) const {
   MapSnapshot snapshot;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
     snapshot = snapshot_map(*map_);
-    snapshot.last_keyframe_seq = counters_.last_seq;
+    // The contiguous seq, not the highest: a restored edge must not claim the gaps.
+    snapshot.last_keyframe_seq = receipts_.contiguous();
     snapshot.received_keyframe_ids.assign(seen_ids_.begin(), seen_ids_.end());
     std::sort(snapshot.received_keyframe_ids.begin(), snapshot.received_keyframe_ids.end());
     snapshot.inserted_keyframe_ids = inserted_ids_;
@@ -223,6 +230,7 @@ void EdgeSession::save_map(const std::string& path) const {
     snapshot.culled_keyframe_ids = culled_ids_;
   }
   write_map_file(snapshot, path);  // no lock held: receiving and mapping go on meanwhile
+  return snapshot.last_keyframe_seq;
 }
 
 void EdgeSession::load_map(const std::string& path) {
@@ -258,6 +266,7 @@ void EdgeSession::load_map(const std::string& path) {
   any_inserted_ = !map_->keyframes().empty();
   relocalization_sent_ = false;
   counters_.last_seq = std::max(counters_.last_seq, snapshot.last_keyframe_seq);
+  receipts_.restore(snapshot.last_keyframe_seq);
   start_modules();
 }
 
@@ -268,7 +277,9 @@ bool EdgeSession::wait_until_idle(double timeout_s) const {
 
 EdgeCounters EdgeSession::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return counters_;
+  EdgeCounters c = counters_;
+  c.received_seq = receipts_.contiguous();
+  return c;
 }
 // The modules are replaced on a reset (under mutex_), so every reader of them takes mutex_.
 std::vector<LoopEvent> EdgeSession::loops() const {
@@ -286,6 +297,7 @@ KeyFrameAccount EdgeSession::keyframe_account() const {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     a.inserted = inserted_ids_;
+    a.received.assign(seen_ids_.begin(), seen_ids_.end());
   }
   // The map before the culled list: a KeyFrame culled in between shows up in both, never in neither.
   for (const auto& kf : map_->keyframes()) a.in_map.push_back(kf->id());
@@ -296,6 +308,7 @@ KeyFrameAccount EdgeSession::keyframe_account() const {
   std::sort(a.inserted.begin(), a.inserted.end());
   std::sort(a.culled.begin(), a.culled.end());
   std::sort(a.in_map.begin(), a.in_map.end());
+  std::sort(a.received.begin(), a.received.end());
   return a;
 }
 

@@ -64,6 +64,7 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   record.created_wall = wall_clock_seconds();
   newest_keyframe_ = record;
   newest_created_ = kf;
+  created_ids_.push_back(kf->id());
   outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
   last_keyframe_stamp_ = kf->stamp();
   keyframe_since_update_ = true;
@@ -250,6 +251,10 @@ size_t MobileSession::local_map_peak() const {
 uint64_t MobileSession::keyframes_dropped_by_cap() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return dropped_by_cap_;
+}
+std::vector<uint32_t> MobileSession::keyframe_ids_created() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return created_ids_;
 }
 uint64_t MobileSession::keyframes_sent() const {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -14,6 +14,7 @@
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
 #include "edge_slam/io/wire_records.h"
+#include "edge_slam/module/keyframe_receipts.h"
 #include "edge_slam/module/local_mapping.h"
 #include "edge_slam/module/loop_closing.h"
 #include "edge_slam/module/module_metrics.h"
@@ -38,8 +39,10 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg);
 
 // Where every KeyFrame accepted since the last reset went: still in the Global-Map, or culled
 // as redundant by Local-Mapping. Nothing else may happen to one (a lost KeyFrame is a bug).
+// `received` is every id taken since the last reset: those not inserted were rejected by
+// condition 1 / 2 (or invalid), which accounts for them too.
 struct KeyFrameAccount {
-  std::vector<uint32_t> inserted, culled, in_map;  // sorted ids
+  std::vector<uint32_t> inserted, culled, in_map, received;  // sorted ids
 };
 
 enum class KeyFrameVerdict { kInserted, kDuplicate, kRejectedAfterRelocalization, kRejectedMapperBusy, kInvalid, kReset };
@@ -49,6 +52,7 @@ struct EdgeCounters {
   uint64_t received = 0, inserted = 0, duplicates = 0, rejected_condition1 = 0, rejected_condition2 = 0;
   uint64_t invalid = 0, resets = 0, updates_built = 0, relocalization_updates_built = 0;
   uint64_t last_seq = 0;  // highest KeyFrame seq received (acknowledged in updates)
+  uint64_t received_seq = 0;  // every seq up to this one received (delivery acknowledgement)
 };
 
 class EdgeSession {
@@ -58,6 +62,8 @@ class EdgeSession {
   ~EdgeSession();
 
   KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, std::string* error = nullptr);
+  // The mobile will never send a seq <= floor again (module/keyframe_delivery.h).
+  void skip_keyframes_through(uint64_t floor);
   // Nullopt until a KeyFrame was inserted.
   std::optional<MapUpdateRecord> build_local_map_update(double now);
   std::optional<MapUpdateRecord> build_relocalization_update(const FrameRecord& frame, double now,
@@ -69,7 +75,8 @@ class EdgeSession {
   // writes outside them (atomically); load_map reads and checks the file first, then replaces
   // the map, the KeyFrame database and the de-duplication state, restarting the mapping
   // threads. Both throw std::runtime_error with the reason; a failed load keeps the old map.
-  void save_map(const std::string& path) const;
+  // save_map returns the received seq the file holds everything up to (what is now durable).
+  uint64_t save_map(const std::string& path) const;
   void load_map(const std::string& path);
 
   EdgeCounters counters() const;
@@ -98,6 +105,7 @@ class EdgeSession {
 
   mutable std::mutex mutex_;  // receive / build / reset
   std::unordered_set<uint32_t> seen_ids_;
+  KeyFrameReceipts receipts_;  // survives a reset: the mobile's seqs go on
   // Every KeyFrame id inserted since the last reset, in insertion order: the newest make the
   // periodic update; all of them are the accounting (4 bytes per KeyFrame on the edge).
   std::vector<uint32_t> inserted_ids_;

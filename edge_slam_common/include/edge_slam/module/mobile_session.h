@@ -87,6 +87,8 @@ class MobileSession {
   TrackingCounters tracking_counters() const;
   std::shared_ptr<const Map> local_map() const { return map_; }
   uint64_t keyframes_sent() const;
+  // Every KeyFrame id tracking created, in order (4 bytes each): the delivery accounting.
+  std::vector<uint32_t> keyframe_ids_created() const;
 
  private:
   void on_new_keyframe(const std::shared_ptr<KeyFrame>& kf);
@@ -124,6 +126,7 @@ class MobileSession {
   std::shared_ptr<PendingUpdate> deferred_update_;  // refused by (d) only, re-checked per frame
   double deferred_since_ = 0;
   std::optional<std::pair<uint64_t, UpdateOutcome>> deferred_outcome_;
+  std::vector<uint32_t> created_ids_;
 };
 
 }  // namespace edge_slam

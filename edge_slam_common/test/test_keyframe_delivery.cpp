@@ -1,0 +1,180 @@
+// KeyFrame delivery (module/keyframe_delivery.h, module/keyframe_receipts.h): acknowledgement
+// frees, timeouts resend in seq order, a restarted edge gets everything after its durable seq,
+// the bound drops the oldest (counted), duplicates change nothing, and the mobile's floor lets
+// the edge's contiguous seq pass what was dropped.
+#include <gtest/gtest.h>
+
+#include "edge_slam/module/keyframe_delivery.h"
+#include "edge_slam/module/keyframe_receipts.h"
+
+namespace edge_slam {
+namespace {
+
+KeyFrameDelivery::RecordPtr record(uint64_t seq) {
+  auto r = std::make_shared<KeyFrameRecord>();
+  r->seq = seq;
+  r->id = static_cast<uint32_t>(100 + seq);
+  return r;
+}
+
+std::vector<uint64_t> seqs(const std::vector<KeyFrameDelivery::RecordPtr>& rs) {
+  std::vector<uint64_t> out;
+  for (const auto& r : rs) out.push_back(r->seq);
+  return out;
+}
+
+KeyFrameAck ack(uint64_t boot, uint64_t received, uint64_t durable, bool persistent = true) {
+  KeyFrameAck a;
+  a.boot_id = boot;
+  a.received_seq = received;
+  a.durable_seq = durable;
+  a.persistent = persistent;
+  return a;
+}
+
+TEST(KeyFrameDelivery, NewRecordsGoOutOnceInOrder) {
+  KeyFrameDelivery d;
+  for (uint64_t s = 1; s <= 3; ++s) d.add(record(s));
+  EXPECT_EQ(seqs(d.take_due(0.0)), (std::vector<uint64_t>{1, 2, 3}));
+  EXPECT_TRUE(d.take_due(0.5).empty()) << "not due again before the timeout";
+  EXPECT_EQ(d.counters().sent, 3u);
+  EXPECT_EQ(d.counters().resent, 0u);
+}
+
+TEST(KeyFrameDelivery, AckedRecordsAreNotResentAndDurableOnesFreed) {
+  KeyFrameDelivery d;
+  for (uint64_t s = 1; s <= 4; ++s) d.add(record(s));
+  d.take_due(0.0);
+  d.on_ack(ack(7, 3, 1), 0.2);
+  DeliveryCounters c = d.counters();
+  EXPECT_EQ(c.acknowledged, 3u);
+  EXPECT_EQ(c.durable, 1u);
+  EXPECT_EQ(c.queued, 3u) << "received but not checkpointed: kept";
+  EXPECT_EQ(seqs(d.take_due(1.5)), (std::vector<uint64_t>{4})) << "only the unacknowledged one is resent";
+  EXPECT_EQ(d.counters().resent, 1u);
+  d.on_ack(ack(7, 4, 4), 1.6);
+  EXPECT_EQ(d.counters().queued, 0u);
+  EXPECT_EQ(d.counters().durable, 4u);
+  EXPECT_EQ(d.floor(), 4u);
+  EXPECT_NEAR(d.seconds_since_ack(2.0), 0.4, 1e-9);
+}
+
+TEST(KeyFrameDelivery, WithoutPersistenceReceivedIsEnough) {
+  KeyFrameDelivery d;
+  for (uint64_t s = 1; s <= 3; ++s) d.add(record(s));
+  d.take_due(0.0);
+  d.on_ack(ack(1, 2, 0, false), 0.1);
+  EXPECT_EQ(d.counters().queued, 1u);
+  EXPECT_EQ(d.floor(), 2u);
+}
+
+TEST(KeyFrameDelivery, TimeoutResendsInSeqOrder) {
+  DeliveryParams p;
+  p.resend_timeout = 1.0;
+  KeyFrameDelivery d(p);
+  d.add(record(1));
+  d.add(record(2));
+  d.take_due(0.0);
+  d.add(record(3));
+  EXPECT_EQ(seqs(d.take_due(0.5)), (std::vector<uint64_t>{3}));
+  EXPECT_EQ(seqs(d.take_due(1.0)), (std::vector<uint64_t>{1, 2}));
+  EXPECT_EQ(seqs(d.take_due(1.6)), (std::vector<uint64_t>{3}));
+  EXPECT_EQ(seqs(d.take_due(2.1)), (std::vector<uint64_t>{1, 2}));
+  EXPECT_EQ(d.counters().sent, 3u);
+  EXPECT_EQ(d.counters().resent, 5u);
+}
+
+TEST(KeyFrameDelivery, RestartedEdgeGetsEverythingAfterItsDurableSeqAtOnce) {
+  KeyFrameDelivery d;
+  for (uint64_t s = 1; s <= 6; ++s) d.add(record(s));
+  d.take_due(0.0);
+  d.on_ack(ack(1, 6, 2), 0.1);  // all received, 1-2 checkpointed
+  EXPECT_TRUE(d.take_due(5.0).empty()) << "acknowledged: no resend";
+  d.on_ack(ack(2, 2, 2), 5.1);  // a new boot restored from the checkpoint
+  EXPECT_EQ(seqs(d.take_due(5.1)), (std::vector<uint64_t>{3, 4, 5, 6})) << "no timeout wait";
+  EXPECT_EQ(d.counters().edge_restarts, 1u);
+  EXPECT_EQ(d.counters().acknowledged, 6u) << "each record counted acknowledged once";
+  d.on_ack(ack(2, 6, 6), 5.3);
+  EXPECT_EQ(d.counters().queued, 0u);
+}
+
+TEST(KeyFrameDelivery, RestartedEmptyEdgeGetsAllHeldRecords) {
+  KeyFrameDelivery d;
+  for (uint64_t s = 1; s <= 3; ++s) d.add(record(s));
+  d.take_due(0.0);
+  d.on_ack(ack(1, 3, 0), 0.1);
+  d.on_ack(ack(2, 0, 0), 0.2);
+  EXPECT_EQ(seqs(d.take_due(0.2)), (std::vector<uint64_t>{1, 2, 3}));
+}
+
+TEST(KeyFrameDelivery, BoundDropsTheOldestAndCountsIt) {
+  DeliveryParams p;
+  p.capacity = 3;
+  KeyFrameDelivery d(p);
+  EXPECT_TRUE(d.add(record(1)));
+  d.add(record(2));
+  d.add(record(3));
+  EXPECT_FALSE(d.add(record(4)));
+  EXPECT_FALSE(d.add(record(5)));
+  const DeliveryCounters c = d.counters();
+  EXPECT_EQ(c.dropped_by_bound, 2u);
+  EXPECT_EQ(c.queued, 3u);
+  EXPECT_EQ(seqs(d.take_due(0.0)), (std::vector<uint64_t>{3, 4, 5}));
+  EXPECT_EQ(d.floor(), 2u) << "the edge may skip what was dropped";
+}
+
+TEST(KeyFrameDelivery, DuplicateAndStaleAcksChangeNothing) {
+  KeyFrameDelivery d;
+  for (uint64_t s = 1; s <= 3; ++s) d.add(record(s));
+  d.take_due(0.0);
+  d.on_ack(ack(1, 3, 1), 0.1);
+  d.on_ack(ack(1, 3, 1), 0.2);
+  d.on_ack(ack(1, 2, 0), 0.3);  // an older ack arriving late: nothing comes back
+  const DeliveryCounters c = d.counters();
+  EXPECT_EQ(c.acknowledged, 3u);
+  EXPECT_EQ(c.durable, 1u);
+  EXPECT_EQ(c.queued, 2u);
+  EXPECT_EQ(c.acks, 3u);
+}
+
+TEST(KeyFrameDelivery, RejectsBadParameters) {
+  DeliveryParams p;
+  p.capacity = 0;
+  EXPECT_THROW(KeyFrameDelivery{p}, std::invalid_argument);
+  p.capacity = 1;
+  p.resend_timeout = 0;
+  EXPECT_THROW(KeyFrameDelivery{p}, std::invalid_argument);
+}
+
+TEST(KeyFrameReceipts, ContiguousSeqOverOutOfOrderAndDuplicates) {
+  KeyFrameReceipts r;
+  r.mark(2);
+  EXPECT_EQ(r.contiguous(), 0u);
+  r.mark(1);
+  EXPECT_EQ(r.contiguous(), 2u);
+  r.mark(2);
+  r.mark(4);
+  EXPECT_EQ(r.contiguous(), 2u);
+  r.mark(3);
+  EXPECT_EQ(r.contiguous(), 4u);
+}
+
+TEST(KeyFrameReceipts, FloorClosesGapsOfDroppedRecords) {
+  KeyFrameReceipts r;
+  r.mark(1);
+  r.mark(5);
+  r.mark(6);
+  r.skip_through(3);  // the mobile dropped 2-3
+  EXPECT_EQ(r.contiguous(), 3u);
+  r.skip_through(4);
+  EXPECT_EQ(r.contiguous(), 6u);
+  r.skip_through(2);
+  EXPECT_EQ(r.contiguous(), 6u) << "never goes back";
+  r.restore(2);
+  EXPECT_EQ(r.contiguous(), 2u);
+  r.mark(4);
+  EXPECT_EQ(r.contiguous(), 2u) << "after a restore only what arrives again counts";
+}
+
+}  // namespace
+}  // namespace edge_slam
