@@ -363,6 +363,7 @@ class EdgeNodelet : public nodelet::Nodelet {
     add("keyframes_received", static_cast<double>(c.received));
     add("keyframes_inserted", static_cast<double>(c.inserted));
     add("keyframes_duplicate", static_cast<double>(c.duplicates));
+    add("keyframes_late", static_cast<double>(c.late_keyframes));
     add("keyframes_rejected_condition1", static_cast<double>(c.rejected_condition1));
     add("keyframes_rejected_condition2", static_cast<double>(c.rejected_condition2));
     add("messages_invalid", static_cast<double>(c.invalid + invalid_));

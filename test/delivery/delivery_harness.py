@@ -22,9 +22,13 @@ import ate  # noqa: E402
 BAG = os.path.join(ROOT, 'bags', 'synthetic_room.bag')
 GROUNDTRUTH = os.path.join(ROOT, 'bags', 'synthetic_room', 'groundtruth.txt')
 MOBILE_IP, EDGE_IP = '10.78.0.1', '10.78.0.2'
-# Accuracy bound of the disturbed runs: 2 x the 2 cm an undisturbed split run stays within on
-# this bag (README; as tracked 1.1-1.2 cm on a quiet machine).
-ATE_BOUND_M = 0.04
+# Accuracy bounds of the disturbed runs. The mobile's trajectory as saved (frames re-anchored
+# on the edge's final KeyFrames, what `make eval` reports): 2 x the ~1 cm an undisturbed split
+# run gets on this bag (split_pipeline test: 0.6-0.9 cm at half speed). The poses as tracked
+# drift while no update can arrive (the Local-Map sits at its cap): 0.8-1.9 cm undisturbed,
+# 1-6 cm with a 10 s outage on a loaded machine; bounded loosely to catch a broken map.
+FINAL_ATE_BOUND_M = 0.02
+TRACKED_ATE_BOUND_M = 0.10
 
 
 class SplitRun:
@@ -96,7 +100,8 @@ class SplitRun:
                       60, 'the ROS master')
             self.start_edge()
             self.spawn('mobile', 'mobile', ['roslaunch', os.path.join(ROOT, 'launch', 'mobile.launch'),
-                                            'slam_config:=' + self.slam_config])
+                                            'slam_config:=' + self.slam_config,
+                                            'anchors_file:=' + os.path.join(self.out, 'mobile_anchors.txt')])
             self.spawn('odometry', 'mobile', ['/usr/bin/python3', os.path.join(ROOT, 'scripts', 'bench', 'odometry_recorder.py'),
                                               '--out', os.path.join(self.out, 'odometry.txt')])
             self.spawn('probe', 'mobile', ['/usr/bin/python3', os.path.join(HERE, 'stats_probe.py'),
@@ -121,7 +126,8 @@ class SplitRun:
 
     def start_edge(self):
         self.spawn('edge', 'edge', ['roslaunch', os.path.join(ROOT, 'launch', 'edge.launch'),
-                                    'slam_config:=' + self.slam_config, 'checkpoint_file:=' + self.checkpoint])
+                                    'slam_config:=' + self.slam_config, 'checkpoint_file:=' + self.checkpoint,
+                                    'keyframes_file:=' + os.path.join(self.out, 'edge_keyframes.txt')])
 
     def wait_for_edge(self, timeout=90):
         return self.wait(lambda: self.call('edge', '/edge_slam/edge/status'), timeout, 'the edge nodelet')
@@ -215,6 +221,18 @@ class SplitRun:
         t, p = ate.read_tum(os.path.join(self.out, 'odometry.txt'))
         return ate.ate_stats(t, p, t_gt, p_gt, 0.02)['ate_rmse_m']
 
+    def final_ate_m(self):
+        """ATE of the final trajectory (split_trajectory.py) and the share of frames anchored."""
+        import numpy as np
+        import split_trajectory
+        time.sleep(2.5)  # both nodelets rewrite their files every second
+        final, missing, total = split_trajectory.final_trajectory(os.path.join(self.out, 'mobile_anchors.txt'),
+                                                                  os.path.join(self.out, 'edge_keyframes.txt'))
+        t_gt, p_gt = ate.read_tum(GROUNDTRUTH)
+        t = np.array([s for s, _ in final])
+        p = np.array([T[:3, 3] for _, T in final])
+        return ate.ate_stats(t, p, t_gt, p_gt, 0.02)['ate_rmse_m'], (total - missing) / max(total, 1)
+
 
 def run_disturbed(test, name, netns, disturb):
     """Plays the bag, calls disturb(run) mid-bag, then checks and prints the delivery figures.
@@ -232,6 +250,7 @@ def run_disturbed(test, name, netns, disturb):
         rss = run.mobile_peak_rss_mb()
         rows = run.stats_rows()
         rmse = run.ate_m()
+        final_rmse, anchored = run.final_ate_m()
         created = set(mobile['created_ids'])
         received = set(edge['received_ids'])
         inserted = set(edge['inserted_ids'])
@@ -241,12 +260,14 @@ def run_disturbed(test, name, netns, disturb):
         print('\n[%s] KeyFrames created %d, sent %d, resent %d, acknowledged %d, durable %d, dropped by bound %d, '
               'dropped by outbox %d; edge received %d messages, %d duplicates, inserted %d, rejected by condition 1/2 '
               '%d/%d, in Global-Map %d, culled %d; outage %.1f s (longest silence seen by the mobile %.1f s); '
-              'mobile peak RSS %.0f MB; Local-Map peak %d / cap %d; ATE as tracked %.2f cm (bound %.0f cm)' % (
+              'mobile peak RSS %.0f MB; Local-Map peak %d / cap %d; ATE final %.2f cm (bound %.0f cm, %.0f%% of the frames '
+              'anchored), as tracked %.2f cm (bound %.0f cm)' % (
                   name, len(created), mobile['sent'], mobile['resent'], mobile['acknowledged'], mobile['durable'],
                   mobile['dropped_by_bound'], mobile['dropped_by_outbox'], edge['received'], edge['duplicates'],
                   edge['inserted'], edge['rejected_condition1'], edge['rejected_condition2'],
                   len(edge['global_map_ids']), len(edge['culled_ids']), outage[1] - outage[0], max_silence, rss,
-                  status['local_map_peak'], status['local_map_cap'], rmse * 100, ATE_BOUND_M * 100), file=sys.stderr)
+                  status['local_map_peak'], status['local_map_cap'], final_rmse * 100, FINAL_ATE_BOUND_M * 100,
+                  anchored * 100, rmse * 100, TRACKED_ATE_BOUND_M * 100), file=sys.stderr)
         test.assertGreater(len(created), 20, 'the mobile made KeyFrames')
         test.assertEqual(sorted(created - received), [], 'KeyFrames the edge never received')
         test.assertEqual(sorted((created & inserted) - kept), [], 'inserted KeyFrames neither in the map nor culled')
@@ -255,5 +276,7 @@ def run_disturbed(test, name, netns, disturb):
         test.assertGreater(in_outage[-1]['frames_tracked'], in_outage[0]['frames_tracked'],
                            'the mobile kept tracking during the outage')
         test.assertEqual(in_outage[-1]['times_lost'], in_outage[0]['times_lost'], 'the mobile got lost in the outage')
-        test.assertLess(rmse, ATE_BOUND_M)
+        test.assertLess(final_rmse, FINAL_ATE_BOUND_M, 'final trajectory ATE')
+        test.assertGreater(anchored, 0.9, 'frames anchored on the Global-Map')
+        test.assertLess(rmse, TRACKED_ATE_BOUND_M, 'ATE as tracked')
         return run, mobile, edge, status

@@ -8,6 +8,7 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/io/map_snapshot.h"
+#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
@@ -29,6 +30,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.min_frames_after_relocalization = cfg.get_int_or("tracking/min_frames_after_relocalization", 20, 0, 100000);
   p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 1, 100000);  // as tracking reads it
   p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
+  p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   return p;
 }
 
@@ -87,8 +89,11 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
     ++counters_.rejected_condition1;
     return KeyFrameVerdict::kRejectedAfterRelocalization;
   }
-  // Condition 2: N frames since the last inserted KeyFrame, or Local-Mapping idle.
-  if (any_inserted_ && !mapping_->idle() &&
+  // Condition 2: N frames since the last inserted KeyFrame, or Local-Mapping idle (live KeyFrames only).
+  const bool late = params_.late_keyframe_age > 0 && r.created_wall > 0 &&
+                    wall_clock_seconds() - r.created_wall > params_.late_keyframe_age;
+  if (late) ++counters_.late_keyframes;
+  if (!late && any_inserted_ && !mapping_->idle() &&
       r.frame_id < last_inserted_frame_id_ + static_cast<uint64_t>(params_.max_frames_between_keyframes)) {
     ++counters_.rejected_condition2;
     return KeyFrameVerdict::kRejectedMapperBusy;

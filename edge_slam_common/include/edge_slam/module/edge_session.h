@@ -28,6 +28,11 @@ struct EdgeSessionParams {
   int update_size = 6;                      // KeyFrames per Local-Map update (paper: 6)
   int min_frames_after_relocalization = 20; // condition 1
   int max_frames_between_keyframes = 20;    // condition 2 (or Local-Mapping idle)
+  // Condition 2 paces KeyFrames arriving live. One created more than this many seconds ago
+  // (by its created_wall stamp; mobile and edge clocks synchronised) is backlog from a link
+  // outage or an edge restart: it is queued for Local-Mapping instead, or the map would lose
+  // the whole stretch the mobile tracked meanwhile. 0 = always apply condition 2 (paper).
+  double late_keyframe_age = 1.0;
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
   size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
   bool loop_closing = true;
@@ -50,6 +55,7 @@ const char* to_string(KeyFrameVerdict v);
 
 struct EdgeCounters {
   uint64_t received = 0, inserted = 0, duplicates = 0, rejected_condition1 = 0, rejected_condition2 = 0;
+  uint64_t late_keyframes = 0;  // backlog KeyFrames exempted from condition 2 (late_keyframe_age)
   uint64_t invalid = 0, resets = 0, updates_built = 0, relocalization_updates_built = 0;
   uint64_t last_seq = 0;  // highest KeyFrame seq received (acknowledged in updates)
   uint64_t received_seq = 0;  // every seq up to this one received (delivery acknowledgement)
