@@ -12,3 +12,12 @@ TEST(RejectionCounter, NumbersDoNotMakeANewReason) {
   EXPECT_EQ(c.total(), 3u);
   EXPECT_EQ(c.by_kind().size(), 2u);
 }
+
+TEST(RejectionCounter, KindsAreBounded) {
+  RejectionCounter c;
+  for (char a = 'a'; a <= 'z'; ++a)
+    for (char b = 'a'; b <= 'e'; ++b) c.add(std::string("colour encoding '") + a + b + "'");
+  EXPECT_EQ(c.total(), 26u * 5u);
+  EXPECT_EQ(c.by_kind().size(), RejectionCounter::kMaxKinds + 1);
+  EXPECT_EQ(c.by_kind().at(RejectionCounter::kOtherKinds), 26u * 5u - RejectionCounter::kMaxKinds);
+}

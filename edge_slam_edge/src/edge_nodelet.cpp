@@ -9,7 +9,8 @@
 // Malformed messages (bytes that do not decode, checked before anything is allocated, or
 // fields that break the record rules) are rejected, counted per topic and per reason
 // (~status malformed_keyframes / malformed_frames, ~stats keyframes_malformed /
-// frames_malformed) and logged once per kind of problem, then throttled; nothing crashes.
+// frames_malformed; per kind of problem in metrics.json) and logged once per kind of problem,
+// then throttled; nothing crashes.
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/metrics_json.h>
 #include <edge_slam/io/output_path.h>
@@ -290,7 +291,9 @@ class EdgeNodelet : public nodelet::Nodelet {
     m.text("node", "edge")
         .object("keyframes", keyframes)
         .integer("global_map_keyframes", static_cast<long long>(map->num_keyframes()))
-        .integer("global_map_points", static_cast<long long>(map->num_map_points()));
+        .integer("global_map_points", static_cast<long long>(map->num_map_points()))
+        .object("malformed_keyframes", by_kind(malformed_keyframes_))
+        .object("malformed_frames", by_kind(malformed_frames_));
     edge_slam::add_module_figures(m, session_->module_figures());
     {
       std::lock_guard<std::mutex> lock(figures_mutex_);
@@ -323,6 +326,11 @@ class EdgeNodelet : public nodelet::Nodelet {
   std::unique_ptr<edge_slam::EdgeSession> session_;
   std::unique_ptr<edge_slam::EventLog> events_;
   std::string map_frame_, metrics_file_, keyframes_file_;
+  static edge_slam::MetricsJson by_kind(const edge_slam::RejectionCounter& c) {  // reason kind -> count
+    edge_slam::MetricsJson j;
+    for (const auto& [kind, n] : c.by_kind()) j.integer(kind, static_cast<long long>(n));
+    return j;
+  }
   uint64_t malformed() const { return malformed_keyframes_.total() + malformed_frames_.total(); }
   edge_slam::RejectionCounter malformed_keyframes_, malformed_frames_;
   size_t loops_announced_ = 0;  // stats timer only

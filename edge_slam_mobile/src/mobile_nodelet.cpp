@@ -10,7 +10,8 @@
 // problem (then throttled) with what was expected, counted, and dropped; the nodelet keeps
 // running. Counters: malformed map_updates -> rejected_invalid (~map_update_status) and
 // updates_rejected_invalid (~stats); camera frames -> images_rejected_{stamp,encoding,size,depth}
-// on both. Out-of-range parameters are refused at start, naming the parameter and the range.
+// on both; per kind of problem in metrics.json (malformed_updates, camera_frames_dropped).
+// Out-of-range parameters are refused at start, naming the parameter and the range.
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/output_path.h>
 #include <edge_slam/io/trajectory_io.h>
@@ -430,10 +431,19 @@ class MobileNodelet : public nodelet::Nodelet {
     if (!s || metrics_file_.empty()) return;
     std::lock_guard<std::mutex> lock(write_mutex_);
     try {
-      metrics_.json(*s, dataset_).write(metrics_file_);
+      metrics_.json(*s, dataset_)
+          .object("malformed_updates", by_kind(malformed_updates_))
+          .object("camera_frames_dropped", by_kind(rejected_frames_))
+          .write(metrics_file_);
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(30.0, "%s", e.what());
     }
+  }
+
+  static edge_slam::MetricsJson by_kind(const edge_slam::RejectionCounter& c) {  // reason kind -> count
+    edge_slam::MetricsJson j;
+    for (const auto& [kind, n] : c.by_kind()) j.integer(kind, static_cast<long long>(n));
+    return j;
   }
 
   // Configuration (read once in onInit).
