@@ -11,18 +11,25 @@
 // ~stats_csv, ~metrics_file, ~keyframes_file (the Global-Map's KeyFrame poses; empty = not written),
 // ~checkpoint_file (empty = no persistence), ~restore_on_start (true); the checkpoint period is
 // delivery/checkpoint_period in the slam config.
-// Malformed messages are rejected with one throttled error and counted; nothing crashes.
+// Malformed messages (bytes that do not decode, checked before anything is allocated, or
+// fields that break the record rules) are rejected, counted per topic and per reason
+// (~status malformed_keyframes / malformed_frames, ~stats keyframes_malformed /
+// frames_malformed; per kind of problem in metrics.json) and logged once per kind of problem,
+// then throttled; nothing crashes.
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/metrics_json.h>
 #include <edge_slam/io/output_path.h>
 #include <edge_slam/io/trajectory_io.h>
 #include <edge_slam/module/edge_session.h>
 #include <edge_slam/module/tracking_params.h>
+#include <edge_slam/util/rejection_counter.h>
 #include <edge_slam/util/wall_clock.h>
+#include <edge_slam_bridge/checked_deserialization.h>
 #include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_bridge/node_config.h>
 #include <edge_slam_bridge/pose_conversion.h>
+#include <edge_slam_bridge/raw_message.h>
 #include <edge_slam_msgs/GetEdgeStatus.h>
 #include <edge_slam_msgs/KeyFrameAck.h>
 #include <edge_slam_msgs/MapFile.h>
@@ -74,11 +81,12 @@ class EdgeNodelet : public nodelet::Nodelet {
     try {
       const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
       const edge_slam::OrbParams orb = edge_slam::load_orb_params(cfg.slam);
-      update_period = cfg.slam.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
+      const edge_slam::EdgeSessionParams params = edge_slam::load_edge_session_params(cfg.slam);
+      update_period = params.update_period;
       checkpoint_period = cfg.slam.get_double_or("delivery/checkpoint_period", 5.0, 0.5, 3600.0);
       events_ = std::make_unique<edge_slam::EventLog>(stats_csv);
       session_ = std::make_unique<edge_slam::EdgeSession>(cfg.camera, orb.num_levels, orb.scale_factor,
-                                                          cfg.vocabulary, edge_slam::load_edge_session_params(cfg.slam));
+                                                          cfg.vocabulary, params);
     } catch (const std::exception& e) {
       NODELET_FATAL("cannot start the edge: %s", e.what());
       return;
@@ -96,8 +104,8 @@ class EdgeNodelet : public nodelet::Nodelet {
     load_srv_ = pnh.advertiseService("load_map", &EdgeNodelet::on_load_map, this);
     ack_pub_ = nh.advertise<edge_slam_msgs::KeyFrameAck>("keyframe_acks", 10);
     floor_sub_ = nh.subscribe("keyframe_floor", 10, &EdgeNodelet::on_floor, this);
-    keyframe_sub_ = nh.subscribe("keyframes", 1000, &EdgeNodelet::on_keyframe, this);
-    frame_sub_ = nh.subscribe("frames", 5, &EdgeNodelet::on_frame, this);
+    keyframe_sub_ = nh.subscribe("keyframes", 1000, &EdgeNodelet::on_keyframe_bytes, this);
+    frame_sub_ = nh.subscribe("frames", 5, &EdgeNodelet::on_frame_bytes, this);
     update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) { send_update(); });
     display_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_map(); });
     stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
@@ -109,17 +117,38 @@ class EdgeNodelet : public nodelet::Nodelet {
     NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map, updates every %.1f s", update_period);
   }
 
+  // Bytes first: a corrupt array length must not reach roscpp's own (unchecked) deserializer.
+  void on_keyframe_bytes(const boost::shared_ptr<const edge_slam::RawMessage<edge_slam_msgs::KeyFrame>>& raw) {
+    auto msg = boost::make_shared<edge_slam_msgs::KeyFrame>();
+    const edge_slam::DecodeStatus status = edge_slam::deserialize_checked(raw->bytes.data(), raw->bytes.size(), *msg);
+    if (!status.ok) return reject(malformed_keyframes_, "keyframe", status.error, raw->bytes.size());
+    on_keyframe(msg);
+  }
+
+  void on_frame_bytes(const boost::shared_ptr<const edge_slam::RawMessage<edge_slam_msgs::Frame>>& raw) {
+    auto msg = boost::make_shared<edge_slam_msgs::Frame>();
+    const edge_slam::DecodeStatus status = edge_slam::deserialize_checked(raw->bytes.data(), raw->bytes.size(), *msg);
+    if (!status.ok) return reject(malformed_frames_, "frame", status.error, raw->bytes.size());
+    on_frame(msg);
+  }
+
+  // Counted per topic and reason; each kind of problem logged the first time, then throttled.
+  void reject(edge_slam::RejectionCounter& counter, const char* topic, const std::string& why, size_t bytes) {
+    const uint64_t same_kind = counter.add(why);
+    if (same_kind == 1)
+      NODELET_ERROR("rejecting a malformed message on '%ss' (first of its kind): %s", topic, why.c_str());
+    else
+      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed message on '%ss' (%lu so far, %lu like this): %s", topic,
+                             static_cast<unsigned long>(counter.total()), static_cast<unsigned long>(same_kind),
+                             why.c_str());
+    log_event(topic, -1, 0, bytes, -1, -1, "malformed");
+  }
+
   void on_keyframe(const edge_slam_msgs::KeyFrame::ConstPtr& msg) {
     const size_t bytes = wire_size(*msg);
     edge_slam::KeyFrameRecord record;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, record);
-    if (!status.ok) {
-      const uint64_t rejected = ++invalid_;
-      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed KeyFrame (%lu malformed messages so far): %s",
-                             static_cast<unsigned long>(rejected), status.error.c_str());
-      log_event("keyframe", msg->stamp.toSec(), msg->seq, bytes, -1, -1, "malformed");
-      return;
-    }
+    if (!status.ok) return reject(malformed_keyframes_, "keyframe", status.error, bytes);
     // Created on the mobile (its wall clock) -> received and deserialised here.
     const double latency_ms = (edge_slam::wall_clock_seconds() - record.created_wall) * 1e3;
     {
@@ -243,13 +272,7 @@ class EdgeNodelet : public nodelet::Nodelet {
     const size_t bytes = wire_size(*msg);
     edge_slam::FrameRecord record;
     const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, record);
-    if (!status.ok) {
-      const uint64_t rejected = ++invalid_;
-      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed Frame (%lu malformed messages so far): %s",
-                             static_cast<unsigned long>(rejected), status.error.c_str());
-      log_event("frame", msg->stamp.toSec(), msg->seq, bytes, -1, -1, "malformed");
-      return;
-    }
+    if (!status.ok) return reject(malformed_frames_, "frame", status.error, bytes);
     const double latency_ms = (edge_slam::wall_clock_seconds() - record.created_wall) * 1e3;
     const double start = edge_slam::wall_clock_seconds();
     std::string error;
@@ -290,7 +313,9 @@ class EdgeNodelet : public nodelet::Nodelet {
     res.duplicates = static_cast<uint32_t>(c.duplicates);
     res.rejected_condition1 = static_cast<uint32_t>(c.rejected_condition1);
     res.rejected_condition2 = static_cast<uint32_t>(c.rejected_condition2);
-    res.invalid = static_cast<uint32_t>(c.invalid + invalid_);
+    res.invalid = static_cast<uint32_t>(c.invalid + malformed());
+    res.malformed_keyframes = static_cast<uint32_t>(malformed_keyframes_.total());
+    res.malformed_frames = static_cast<uint32_t>(malformed_frames_.total());
     res.resets = static_cast<uint32_t>(c.resets);
     res.updates_sent = static_cast<uint32_t>(c.updates_built);
     res.relocalization_updates_sent = static_cast<uint32_t>(c.relocalization_updates_built);
@@ -366,7 +391,9 @@ class EdgeNodelet : public nodelet::Nodelet {
     add("keyframes_late", static_cast<double>(c.late_keyframes));
     add("keyframes_rejected_condition1", static_cast<double>(c.rejected_condition1));
     add("keyframes_rejected_condition2", static_cast<double>(c.rejected_condition2));
-    add("messages_invalid", static_cast<double>(c.invalid + invalid_));
+    add("messages_invalid", static_cast<double>(c.invalid + malformed()));
+    add("keyframes_malformed", static_cast<double>(malformed_keyframes_.total()));
+    add("frames_malformed", static_cast<double>(malformed_frames_.total()));
     add("resets", static_cast<double>(c.resets));
     add("global_map_keyframes", static_cast<double>(map->num_keyframes()));
     add("global_map_points", static_cast<double>(map->num_map_points()));
@@ -399,13 +426,15 @@ class EdgeNodelet : public nodelet::Nodelet {
         .integer("duplicates", static_cast<long long>(c.duplicates))
         .integer("rejected_condition1", static_cast<long long>(c.rejected_condition1))
         .integer("rejected_condition2", static_cast<long long>(c.rejected_condition2))
-        .integer("invalid", static_cast<long long>(c.invalid + invalid_))
+        .integer("invalid", static_cast<long long>(c.invalid + malformed()))
         .integer("resets", static_cast<long long>(c.resets));
     const auto map = session_->global_map();
     m.text("node", "edge")
         .object("keyframes", keyframes)
         .integer("global_map_keyframes", static_cast<long long>(map->num_keyframes()))
-        .integer("global_map_points", static_cast<long long>(map->num_map_points()));
+        .integer("global_map_points", static_cast<long long>(map->num_map_points()))
+        .object("malformed_keyframes", by_kind(malformed_keyframes_))
+        .object("malformed_frames", by_kind(malformed_frames_));
     edge_slam::add_module_figures(m, session_->module_figures());
     {
       std::lock_guard<std::mutex> lock(figures_mutex_);
@@ -440,7 +469,13 @@ class EdgeNodelet : public nodelet::Nodelet {
   std::string map_frame_, metrics_file_, keyframes_file_, checkpoint_file_;
   std::atomic<uint64_t> boot_id_{0}, durable_seq_{0}, checkpoints_{0};
   std::atomic<bool> checkpointing_{false};
-  std::atomic<uint64_t> invalid_{0};
+  static edge_slam::MetricsJson by_kind(const edge_slam::RejectionCounter& c) {  // reason kind -> count
+    edge_slam::MetricsJson j;
+    for (const auto& [kind, n] : c.by_kind()) j.integer(kind, static_cast<long long>(n));
+    return j;
+  }
+  uint64_t malformed() const { return malformed_keyframes_.total() + malformed_frames_.total(); }
+  edge_slam::RejectionCounter malformed_keyframes_, malformed_frames_;
   size_t loops_announced_ = 0;  // stats timer only
   std::mutex write_mutex_;      // metrics.json writers (timer, destructor)
   std::mutex figures_mutex_;    // the figures below: message callbacks vs timers

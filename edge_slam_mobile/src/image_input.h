@@ -1,6 +1,7 @@
 // Camera input checks and conversion for the mobile: colour rgb8/bgr8/mono8 (any other
 // encoding refused) to RGB, depth 16UC1 (camera depth_factor) or 32FC1 metres, sizes matching
-// the calibration, stamps strictly increasing. A refusal says what was expected.
+// the calibration, stamps strictly increasing, at least one valid depth value. A refusal says
+// what was expected and which kind of problem it is (counted per kind on ~stats and the status).
 #pragma once
 #include <cv_bridge/cv_bridge.h>
 #include <edge_slam/camera/pinhole_camera.h>
@@ -12,8 +13,12 @@
 
 namespace edge_slam_mobile {
 
+enum class ImageProblem { kNone, kStamp, kEncoding, kSize, kDepth };
+inline constexpr int kImageProblemKinds = 5;
+
 struct ImageCheck {
   bool ok = false;
+  ImageProblem problem = ImageProblem::kNone;
   std::string error;
   cv::Mat rgb;    // CV_8UC3, RGB order
   cv::Mat depth;  // CV_16UC1 (scaled by depth_factor) or CV_32FC1 metres, as received
@@ -26,17 +31,26 @@ inline ImageCheck convert_rgbd(const sensor_msgs::Image& rgb, const sensor_msgs:
   if (!last_stamp.isZero() && rgb.header.stamp <= last_stamp) {
     c.error = "colour stamp " + std::to_string(rgb.header.stamp.toSec()) + " is not after the previous frame's " +
               std::to_string(last_stamp.toSec()) + " (out-of-order or repeated frame)";
+    c.problem = ImageProblem::kStamp;
     return c;
   }
   if (rgb.encoding != enc::RGB8 && rgb.encoding != enc::BGR8 && rgb.encoding != enc::MONO8) {
     c.error = "colour encoding '" + rgb.encoding + "', expected rgb8, bgr8 or mono8";
+    c.problem = ImageProblem::kEncoding;
     return c;
   }
   if (depth.encoding != enc::TYPE_16UC1 && depth.encoding != enc::MONO16 && depth.encoding != enc::TYPE_32FC1) {
     c.error = "depth encoding '" + depth.encoding + "', expected 16UC1 (x depth_factor) or 32FC1 (metres)";
+    c.problem = ImageProblem::kEncoding;
     return c;
   }
   const int w = camera.width, h = camera.height;
+  c.problem = ImageProblem::kSize;
+  if (rgb.width != depth.width || rgb.height != depth.height) {
+    c.error = "colour is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + " but depth is " +
+              std::to_string(depth.width) + "x" + std::to_string(depth.height) + " (expected the same size)";
+    return c;
+  }
   if (static_cast<int>(rgb.width) != w || static_cast<int>(rgb.height) != h ||
       static_cast<int>(depth.width) != w || static_cast<int>(depth.height) != h) {
     c.error = "image sizes colour " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + ", depth " +
@@ -44,13 +58,37 @@ inline ImageCheck convert_rgbd(const sensor_msgs::Image& rgb, const sensor_msgs:
               "x" + std::to_string(h) + " (camera '" + camera.name + "')";
     return c;
   }
+  // cv_bridge trusts step and the buffer length: a short buffer would be read past its end.
+  for (const sensor_msgs::Image* im : {&rgb, &depth}) {
+    const size_t row = static_cast<size_t>(im->width) * enc::numChannels(im->encoding) * (enc::bitDepth(im->encoding) / 8);
+    if (im->step < row || im->data.size() < static_cast<size_t>(im->step) * im->height) {
+      c.error = "image '" + im->encoding + "' has step " + std::to_string(im->step) + " and " +
+                std::to_string(im->data.size()) + " bytes, expected step >= " + std::to_string(row) + " and " +
+                "step x height bytes";
+      return c;
+    }
+  }
   try {
     c.rgb = cv_bridge::toCvCopy(rgb, enc::RGB8)->image;
-    c.depth = cv_bridge::toCvCopy(depth)->image;
   } catch (const cv_bridge::Exception& e) {
-    c.error = std::string("image conversion failed: ") + e.what();
+    c.error = std::string("colour conversion failed: ") + e.what();
+    c.problem = ImageProblem::kEncoding;
     return c;
   }
+  c.problem = ImageProblem::kDepth;
+  try {
+    c.depth = cv_bridge::toCvCopy(depth)->image;
+  } catch (const cv_bridge::Exception& e) {
+    c.error = std::string("depth conversion failed: ") + e.what();
+    return c;
+  }
+  // A frame without depth cannot be tracked as RGB-D (sensor dropout, wrong topic): NaN and
+  // zero both mean "no measurement" (NaN > 0 is false).
+  if (cv::countNonZero(c.depth > 0) == 0) {
+    c.error = "depth image holds no valid value (all zero or NaN)";
+    return c;
+  }
+  c.problem = ImageProblem::kNone;
   c.ok = true;
   return c;
 }

@@ -6,9 +6,13 @@
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam_msgs/Stats.h>
 
+#include <array>
+
 #include <mutex>
 #include <string>
 #include <vector>
+
+#include "image_input.h"
 
 namespace edge_slam_mobile {
 
@@ -18,9 +22,14 @@ class MobileMetrics {
     std::lock_guard<std::mutex> lock(mutex_);
     tracking_ms_.push_back(tracking_ms);
   }
-  void on_input_rejected() {
+  void on_input_rejected(ImageProblem problem) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++inputs_rejected_;
+    ++images_rejected_[static_cast<int>(problem)];
+  }
+  uint64_t images_rejected(ImageProblem problem) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return images_rejected_[static_cast<int>(problem)];
   }
   void on_keyframe_sent(size_t bytes) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -72,6 +81,10 @@ class MobileMetrics {
     add("outbox_queued", static_cast<double>(s.outbox_size()));
     std::lock_guard<std::mutex> lock(mutex_);
     add("inputs_rejected", static_cast<double>(inputs_rejected_));
+    add("images_rejected_stamp", static_cast<double>(images_rejected_[static_cast<int>(ImageProblem::kStamp)]));
+    add("images_rejected_encoding", static_cast<double>(images_rejected_[static_cast<int>(ImageProblem::kEncoding)]));
+    add("images_rejected_size", static_cast<double>(images_rejected_[static_cast<int>(ImageProblem::kSize)]));
+    add("images_rejected_depth", static_cast<double>(images_rejected_[static_cast<int>(ImageProblem::kDepth)]));
     add("keyframes_sent", static_cast<double>(keyframes_sent_));
     add("keyframe_bytes_sent", static_cast<double>(keyframe_bytes_));
     add("frames_sent", static_cast<double>(frames_sent_));
@@ -125,6 +138,7 @@ class MobileMetrics {
   mutable std::mutex mutex_;
   std::vector<double> tracking_ms_, rebuild_ms_, update_latency_ms_;
   uint64_t inputs_rejected_ = 0, keyframes_sent_ = 0, frames_sent_ = 0;
+  std::array<uint64_t, kImageProblemKinds> images_rejected_{};
   uint64_t keyframe_bytes_ = 0, frame_bytes_ = 0, update_bytes_ = 0;
 };
 

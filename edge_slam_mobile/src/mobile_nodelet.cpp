@@ -9,20 +9,28 @@
 //        ~delivery_status (KeyFrame delivery counters and the ids created)
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
 // ~camera_frame, ~use_camera_info (true), ~camera_info_timeout (s), ~stats_csv, ~metrics_file,
-// ~trajectory_file (empty = not written), ~path_max_poses. Bad input is logged once
-// (throttled) with what was expected, counted, and dropped; the nodelet keeps running.
+// ~trajectory_file (empty = not written), ~path_max_poses. Bad input is logged once per kind of
+// problem (then throttled) with what was expected, counted, and dropped; the nodelet keeps
+// running. Counters: malformed map_updates -> rejected_invalid (~map_update_status) and
+// updates_rejected_invalid (~stats); camera frames -> images_rejected_{stamp,encoding,size,depth}
+// on both; per kind of problem in metrics.json (malformed_updates, camera_frames_dropped).
+// Out-of-range parameters are refused at start, naming the parameter and the range.
 #include <edge_slam/io/event_log.h>
 #include <edge_slam/io/output_path.h>
 #include <edge_slam/io/trajectory_io.h>
 #include <edge_slam/module/keyframe_delivery.h>
 #include <edge_slam/module/mobile_session.h>
 #include <edge_slam/module/tracking_params.h>
+#include <edge_slam/util/rejection_counter.h>
 #include <edge_slam/util/wall_clock.h>
+#include <edge_slam_bridge/checked_deserialization.h>
 #include <edge_slam_bridge/map_display.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <edge_slam_bridge/node_config.h>
 #include <edge_slam_bridge/pose_conversion.h>
 #include <edge_slam_msgs/GetDeliveryStatus.h>
+#include <edge_slam_bridge/raw_message.h>
+#include <edge_slam_bridge/ros_param.h>
 #include <edge_slam_msgs/GetMapUpdateStatus.h>
 #include <edge_slam_msgs/KeyFrameAck.h>
 #include <edge_slam_msgs/SetMapUpdates.h>
@@ -77,8 +85,6 @@ class MobileNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("camera_frame", camera_frame_, "camera");
     pnh.param("use_camera_info", use_camera_info_, true);
-    pnh.param("camera_info_timeout", camera_info_timeout_, 2.0);
-    pnh.param("path_max_poses", path_max_poses_, 20000);
     pnh.param<std::string>("metrics_file", metrics_file_, "");
     pnh.param<std::string>("dataset", dataset_, "");
     std::string stats_csv, trajectory_file, anchors_file;
@@ -86,6 +92,8 @@ class MobileNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("trajectory_file", trajectory_file, "");
     pnh.param<std::string>("anchors_file", anchors_file, "");
     try {
+      camera_info_timeout_ = edge_slam::param_in_range(pnh, "camera_info_timeout", 2.0, 0.0, 600.0);
+      path_max_poses_ = edge_slam::param_in_range(pnh, "path_max_poses", 20000, 1, 10000000);
       config_ = edge_slam::load_node_config(pnh);
       // Parse every section now so a bad value is refused at start, naming the parameter.
       tracking_ = edge_slam::load_tracking_params(config_.slam);  // MobileSession keeps conditions 3-5 only
@@ -122,7 +130,7 @@ class MobileNodelet : public nodelet::Nodelet {
     marker_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true);
     state_pub_ = pnh.advertise<std_msgs::String>("state", 10, true);
     stats_pub_ = pnh.advertise<edge_slam_msgs::Stats>("stats", 10);
-    update_sub_ = nh.subscribe("map_updates", 5, &MobileNodelet::on_map_update, this);
+    update_sub_ = nh.subscribe("map_updates", 5, &MobileNodelet::on_map_update_bytes, this);
     set_srv_ = pnh.advertiseService("set_map_updates", &MobileNodelet::on_set_map_updates, this);
     status_srv_ = pnh.advertiseService("map_update_status", &MobileNodelet::on_status, this);
     reset_srv_ = pnh.advertiseService("reset", &MobileNodelet::on_reset, this);
@@ -198,10 +206,12 @@ class MobileNodelet : public nodelet::Nodelet {
     }
     ImageCheck check = convert_rgbd(*rgb, *depth, camera_, last_stamp_);
     if (!check.ok) {
-      metrics_.on_input_rejected();
-      const uint64_t dropped = ++rejected_frames_;
-      NODELET_ERROR_THROTTLE(5.0, "dropping camera frame (%lu dropped so far): %s", static_cast<unsigned long>(dropped),
-                             check.error.c_str());
+      metrics_.on_input_rejected(check.problem);
+      const uint64_t same_kind = rejected_frames_.add(check.error);
+      if (same_kind == 1) NODELET_ERROR("dropping a camera frame (first of its kind): %s", check.error.c_str());
+      else
+        NODELET_ERROR_THROTTLE(5.0, "dropping camera frames (%lu dropped so far): %s",
+                               static_cast<unsigned long>(rejected_frames_.total()), check.error.c_str());
       return;
     }
     {
@@ -293,17 +303,32 @@ class MobileNodelet : public nodelet::Nodelet {
     return true;
   }
 
-  void on_map_update(const edge_slam_msgs::MapUpdate::ConstPtr& msg) {
+
+  // Bytes first: a corrupt array length must not reach roscpp's own (unchecked) deserializer.
+  void on_map_update_bytes(const boost::shared_ptr<const edge_slam::RawMessage<edge_slam_msgs::MapUpdate>>& raw) {
     auto s = session();
     if (!s) return;
-    const size_t bytes = wire_size(*msg);
+    auto msg = boost::make_shared<edge_slam_msgs::MapUpdate>();
+    const edge_slam::DecodeStatus status = edge_slam::deserialize_checked(raw->bytes.data(), raw->bytes.size(), *msg);
+    if (!status.ok) return reject_update(*s, status.error);
+    on_map_update(s, *msg);
+  }
+
+  // Counted (rejected_invalid) and logged once per kind of problem, then throttled.
+  void reject_update(MobileSession& s, const std::string& why) {
+    s.count_invalid_update();
+    const uint64_t same_kind = malformed_updates_.add(why);
+    if (same_kind == 1) NODELET_ERROR("rejecting a malformed map update (first of its kind): %s", why.c_str());
+    else
+      NODELET_ERROR_THROTTLE(5.0, "rejecting malformed map updates (%lu so far): %s",
+                             static_cast<unsigned long>(malformed_updates_.total()), why.c_str());
+  }
+
+  void on_map_update(const std::shared_ptr<MobileSession>& s, const edge_slam_msgs::MapUpdate& msg) {
+    const size_t bytes = wire_size(msg);
     edge_slam::MapUpdateRecord update;
-    const edge_slam::DecodeStatus status = edge_slam::from_message(*msg, update);
-    if (!status.ok) {
-      s->count_invalid_update();
-      NODELET_ERROR_THROTTLE(5.0, "rejecting a malformed map update: %s", status.error.c_str());
-      return;
-    }
+    const edge_slam::DecodeStatus status = edge_slam::from_message(msg, update);
+    if (!status.ok) return reject_update(*s, status.error);
     // Published (edge wall clock) -> received and deserialised here.
     const double latency_ms = (edge_slam::wall_clock_seconds() - update.publish_stamp) * 1e3;
     const edge_slam::UpdateOutcome out = s->apply_update(update, ros::Time::now().toSec());
@@ -370,6 +395,12 @@ class MobileNodelet : public nodelet::Nodelet {
     res.local_map_keyframes = static_cast<uint32_t>(s->local_map_keyframes());
     res.local_map_peak = static_cast<uint32_t>(s->local_map_peak());
     res.local_map_cap = static_cast<uint32_t>(s->local_map_cap());
+    res.local_map_points = static_cast<uint32_t>(s->local_map_points());
+    for (const auto& kf : s->local_map()->keyframes()) res.local_map_ids.push_back(kf->id());
+    res.images_rejected_stamp = static_cast<uint32_t>(metrics_.images_rejected(ImageProblem::kStamp));
+    res.images_rejected_encoding = static_cast<uint32_t>(metrics_.images_rejected(ImageProblem::kEncoding));
+    res.images_rejected_size = static_cast<uint32_t>(metrics_.images_rejected(ImageProblem::kSize));
+    res.images_rejected_depth = static_cast<uint32_t>(metrics_.images_rejected(ImageProblem::kDepth));
     res.keyframes_created = static_cast<uint32_t>(s->keyframes_sent());
     res.time_constraint = s->time_constraint();
     return true;
@@ -489,10 +520,19 @@ class MobileNodelet : public nodelet::Nodelet {
     if (!s || metrics_file_.empty()) return;
     std::lock_guard<std::mutex> lock(write_mutex_);
     try {
-      metrics_.json(*s, dataset_).write(metrics_file_);
+      metrics_.json(*s, dataset_)
+          .object("malformed_updates", by_kind(malformed_updates_))
+          .object("camera_frames_dropped", by_kind(rejected_frames_))
+          .write(metrics_file_);
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(30.0, "%s", e.what());
     }
+  }
+
+  static edge_slam::MetricsJson by_kind(const edge_slam::RejectionCounter& c) {  // reason kind -> count
+    edge_slam::MetricsJson j;
+    for (const auto& [kind, n] : c.by_kind()) j.integer(kind, static_cast<long long>(n));
+    return j;
   }
 
   // Configuration (read once in onInit).
@@ -523,7 +563,7 @@ class MobileNodelet : public nodelet::Nodelet {
   ros::Time last_stamp_;
   nav_msgs::Path path_;
   uint64_t path_counter_ = 0;
-  std::atomic<uint64_t> rejected_frames_{0};
+  edge_slam::RejectionCounter rejected_frames_, malformed_updates_;
   std::atomic<bool> running_{false};
   std::thread sender_;
 

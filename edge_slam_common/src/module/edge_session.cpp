@@ -31,6 +31,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 1, 100000);  // as tracking reads it
   p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
+  p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
   return p;
 }
 

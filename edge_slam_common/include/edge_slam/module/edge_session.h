@@ -35,6 +35,7 @@ struct EdgeSessionParams {
   double late_keyframe_age = 1.0;
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
   size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
+  double update_period = 5.0;               // seconds between periodic Local-Map updates
   bool loop_closing = true;
   LocalMappingParams mapping;
   LoopClosingParams loop;
