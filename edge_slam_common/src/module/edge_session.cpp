@@ -239,6 +239,11 @@ uint64_t EdgeSession::save_map(const std::string& path) const {
   return snapshot.last_keyframe_seq;
 }
 
+namespace {
+// Larger than the points Local-Mapping can make between two checkpoints (~1000 per KeyFrame).
+constexpr uint32_t kPointIdGapAfterRestore = 1u << 22;
+}  // namespace
+
 void EdgeSession::load_map(const std::string& path) {
   // Read, check and build everything before touching the session, so a bad file changes nothing.
   const MapSnapshot snapshot = read_map_file(path);
@@ -254,6 +259,9 @@ void EdgeSession::load_map(const std::string& path) {
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
     map_->clear();
     install_snapshot(snapshot, objects, *map_, *database_);
+    // Points the edge made after this save may already sit in the mobile's Local-Map (sent in
+    // an update) and come back in its KeyFrames: never hand their ids out again for new points.
+    map_->reserve_ids(0, map_->next_map_point_id() + kPointIdGapAfterRestore);
   }
   // The restored KeyFrames and every id received before the save count as received: a
   // resent copy is a duplicate. The accounting continues from the saved one.
