@@ -239,11 +239,6 @@ uint64_t EdgeSession::save_map(const std::string& path) const {
   return snapshot.last_keyframe_seq;
 }
 
-namespace {
-// Larger than the points Local-Mapping can make between two checkpoints (~1000 per KeyFrame).
-constexpr uint32_t kPointIdGapAfterRestore = 1u << 22;
-}  // namespace
-
 void EdgeSession::load_map(const std::string& path) {
   // Read, check and build everything before touching the session, so a bad file changes nothing.
   const MapSnapshot snapshot = read_map_file(path);

@@ -24,6 +24,11 @@ namespace edge_slam {
 class BowVocabulary;
 class ConfigMap;
 
+// After load_map, new edge points start this far past the saved allocator: points made after
+// the save may be in the mobile's Local-Map and come back, so their ids are never reused.
+// Larger than what Local-Mapping makes between two checkpoints (~1000 points per KeyFrame).
+inline constexpr uint32_t kPointIdGapAfterRestore = 1u << 22;
+
 struct EdgeSessionParams {
   int update_size = 6;                      // KeyFrames per Local-Map update (paper: 6)
   int min_frames_after_relocalization = 20; // condition 1
