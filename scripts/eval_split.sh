@@ -5,6 +5,7 @@
 # edge's final KeyFrames, as monolithic/ORB-SLAM2 save theirs), the as-tracked trajectory, the
 # Local-Map size over time and both sides' per-event CSVs. Called by scripts/eval.sh.
 #   env: DATASET (TUM folder) OUT CAMERA VOCABULARY (resolved by eval.sh);
+#        SLAM_CONFIG (default config/slam.yaml);
 #        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -45,7 +46,10 @@ trap stop_ros EXIT
 for _ in $(seq 50); do rosparam list > /dev/null 2>&1 && break; sleep 0.2; done
 
 say "split: mobile + edge nodelets on ${SOURCE[0]#*:=} (real time; logs in $OUT/launch.log)"
-roslaunch launch/edge_slam.launch "${SOURCE[@]}" camera_config:="$CAMERA" vocabulary:="$VOCABULARY" \
+# Every frame is tracked (deep image queues), as the monolithic runner tracks every frame: the
+# accuracy comparison is like for like; SPLIT_IMAGE_QUEUE=2 gives a live camera's frame dropping.
+roslaunch launch/edge_slam.launch "${SOURCE[@]}" image_queue_size:="${SPLIT_IMAGE_QUEUE:-1000}" \
+  slam_config:="$(realpath "${SLAM_CONFIG:-config/slam.yaml}")" camera_config:="$CAMERA" vocabulary:="$VOCABULARY" \
   out:="$OUT" exit_with_bag:=false > "$OUT/launch.log" 2>&1 &
 launch_pid=$!
 

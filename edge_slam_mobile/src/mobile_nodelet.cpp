@@ -9,7 +9,9 @@
 //        ~delivery_status (KeyFrame delivery counters and the ids created)
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
 // ~camera_frame, ~use_camera_info (true), ~camera_info_timeout (s), ~stats_csv, ~metrics_file,
-// ~trajectory_file (empty = not written), ~path_max_poses. Bad input is logged once per kind of
+// ~trajectory_file (empty = not written), ~path_max_poses, ~image_queue_size (2: a live camera's
+// frames are dropped when tracking falls behind; evaluation on a bag sets it deep so every frame
+// is tracked, as the monolithic runner does). Bad input is logged once per kind of
 // problem (then throttled) with what was expected, counted, and dropped; the nodelet keeps
 // running. Counters: malformed map_updates -> rejected_invalid (~map_update_status) and
 // updates_rejected_invalid (~stats); camera frames -> images_rejected_{stamp,encoding,size,depth}
@@ -48,6 +50,7 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <iomanip>
@@ -94,6 +97,7 @@ class MobileNodelet : public nodelet::Nodelet {
     try {
       camera_info_timeout_ = edge_slam::param_in_range(pnh, "camera_info_timeout", 2.0, 0.0, 600.0);
       path_max_poses_ = edge_slam::param_in_range(pnh, "path_max_poses", 20000, 1, 10000000);
+      image_queue_size_ = edge_slam::param_in_range(pnh, "image_queue_size", 2, 1, 10000);
       config_ = edge_slam::load_node_config(pnh);
       // Parse every section now so a bad value is refused at start, naming the parameter.
       tracking_ = edge_slam::load_tracking_params(config_.slam);  // MobileSession keeps conditions 3-5 only
@@ -136,13 +140,14 @@ class MobileNodelet : public nodelet::Nodelet {
     reset_srv_ = pnh.advertiseService("reset", &MobileNodelet::on_reset, this);
 
     // Images and camera_info on the single-threaded handle: frames are tracked one at a time, in
-    // order, and the session is created there. Small queues: after a pause (an update being
-    // applied) tracking resumes with the newest frame.
+    // order, and the session is created there. Small queues by default: when tracking falls
+    // behind, it goes on with the newest frame.
     ros::NodeHandle& st = getNodeHandle();
     it_ = std::make_unique<image_transport::ImageTransport>(st);
-    rgb_sub_.subscribe(*it_, "rgb/image", 2);
-    depth_sub_.subscribe(*it_, "depth/image", 2);
-    sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), rgb_sub_, depth_sub_);
+    rgb_sub_.subscribe(*it_, "rgb/image", static_cast<uint32_t>(image_queue_size_));
+    depth_sub_.subscribe(*it_, "depth/image", static_cast<uint32_t>(image_queue_size_));
+    sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(
+        SyncPolicy(static_cast<uint32_t>(std::max(5, image_queue_size_ + 3))), rgb_sub_, depth_sub_);
     sync_->registerCallback(&MobileNodelet::on_rgbd, this);
     if (use_camera_info_) info_sub_ = st.subscribe("rgb/camera_info", 1, &MobileNodelet::on_camera_info, this);
     else start_session(config_.camera, "YAML (use_camera_info is false)");
@@ -545,6 +550,7 @@ class MobileNodelet : public nodelet::Nodelet {
   bool use_camera_info_ = true;
   double camera_info_timeout_ = 2.0;
   int path_max_poses_ = 20000;
+  int image_queue_size_ = 2;
 
   // Set once on the image thread, read everywhere through session().
   std::shared_ptr<MobileSession> session_;

@@ -137,6 +137,7 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
     env = dict(os.environ, DATASET=data, MODE=mode, OUT=run_dir)  # eval.sh picks the fr1 calibration itself
     if variant.startswith("long_"):
         env["SPLIT_SOURCE"] = "folder"  # no bag of a 10-minute sequence: tum_player reads the folder
+        env["SPLIT_IMAGE_QUEUE"] = "2"  # a live camera: frames queued in the mobile would count in its RSS
         # the looped embedded sequence: its own vocabulary, not one trained on the copy
         env["EDGE_SLAM_ARGS"] = (env.get("EDGE_SLAM_ARGS", "") + " --vocabulary bags/vocabulary_synthetic.bin").strip()
     log = open(os.path.join(run_dir, "log.txt"), "w")
@@ -301,6 +302,8 @@ def run():
                     help=f"comma-separated variants to run, of {','.join(VARIANTS)} (default: all)")
     ap.add_argument("--no-wire", action="store_true", help="skip the wire micro-benchmark")
     ap.add_argument("--report-only", action="store_true", help="rebuild report.md from OUT/runs only")
+    ap.add_argument("--long-laps", type=int, default=LONG_LAPS,
+                    help=f"laps of the embedded path in the long run (default {LONG_LAPS}: 10 minutes)")
     ap.add_argument("--long-modes", default="monolithic,split",
                     help="modes of the long run")
     ap.add_argument("--add", action="store_true",
@@ -367,7 +370,7 @@ def run():
     if "long" in variants:
         progress.start("long sequence:")
         made = subprocess.run([sys.executable, os.path.join(HERE, "loop_sequence.py"), os.path.join(ROOT, LONG_SOURCE),
-                               long_dir, "--laps", str(LONG_LAPS), "--every", str(LONG_EVERY)],
+                               long_dir, "--laps", str(args.long_laps), "--every", str(LONG_EVERY)],
                               capture_output=True, text=True)
         progress.done(made.stdout.strip() or made.stderr.strip())
     if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
