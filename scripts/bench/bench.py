@@ -375,7 +375,8 @@ def run():
         progress.done(made.stdout.strip() or made.stderr.strip())
     if "long" in variants and os.path.isfile(os.path.join(long_dir, "rgb.txt")):
         seconds = sequence_seconds(long_dir)
-        entry = {"path": long_dir, "name": os.path.basename(long_dir), "seconds": seconds, "runs": []}
+        entry = {"path": long_dir, "name": os.path.basename(long_dir), "seconds": seconds, "runs": [],
+                 "laps": args.long_laps}
         for variant in args.long_modes.split(","):
             entry["runs"].append(run_variant(progress, out_dir, long_dir, f"long_{variant}", None, None,
                                              seconds + 40))

@@ -244,7 +244,7 @@ def long_run(manifest, out, rep, section, bench):
             rows.append([label, fmt(p["cpu_s"][-1], ".1f"), fmt(p["rss_mb"].max(), ".0f"), fmt(slope, ".2f", " MB/min")])
     bench["long_run"] = {"seconds": entry["seconds"], "rss_slope_mb_per_min": slopes, "warm_up_s": WARM_UP_S}
     section.line(f"`{entry['name']}`: {entry['seconds'] / 60:.1f} min of camera data (the embedded sequence's closed "
-                 "path driven 20 times at 15 fps, scripts/bench/loop_sequence.py; the split plays it live from the "
+                 f"path driven {entry.get('laps', 20)} times at 15 fps, scripts/bench/loop_sequence.py; the split plays it live from the "
                  "folder with tum_player). RSS slope = least-squares "
                  f"line through the samples from {WARM_UP_S:.0f} s after start to the end of the camera data.")
     section.line()
