@@ -1,5 +1,5 @@
 // KeyFrame delivery (module/keyframe_delivery.h, module/keyframe_receipts.h): acknowledgement
-// frees, timeouts resend in seq order, a restarted edge gets everything after its durable seq,
+// frees, timeouts resend in seq order (backing off; a returning link makes the rest due at once), a restarted edge gets everything after its durable seq,
 // the bound drops the oldest (counted), duplicates change nothing, and the mobile's floor lets
 // the edge's contiguous seq pass what was dropped.
 #include <gtest/gtest.h>
@@ -68,20 +68,40 @@ TEST(KeyFrameDelivery, WithoutPersistenceReceivedIsEnough) {
   EXPECT_EQ(d.floor(), 2u);
 }
 
-TEST(KeyFrameDelivery, TimeoutResendsInSeqOrder) {
+TEST(KeyFrameDelivery, TimeoutResendsInSeqOrderBackingOff) {
   DeliveryParams p;
   p.resend_timeout = 1.0;
+  p.resend_timeout_max = 4.0;
   KeyFrameDelivery d(p);
   d.add(record(1));
   d.add(record(2));
   d.take_due(0.0);
   d.add(record(3));
   EXPECT_EQ(seqs(d.take_due(0.5)), (std::vector<uint64_t>{3}));
-  EXPECT_EQ(seqs(d.take_due(1.0)), (std::vector<uint64_t>{1, 2}));
+  EXPECT_EQ(seqs(d.take_due(1.0)), (std::vector<uint64_t>{1, 2})) << "first resend after resend_timeout";
   EXPECT_EQ(seqs(d.take_due(1.6)), (std::vector<uint64_t>{3}));
-  EXPECT_EQ(seqs(d.take_due(2.1)), (std::vector<uint64_t>{1, 2}));
+  EXPECT_TRUE(d.take_due(2.1).empty()) << "the next one waits twice as long";
+  EXPECT_EQ(seqs(d.take_due(3.0)), (std::vector<uint64_t>{1, 2}));
+  EXPECT_EQ(seqs(d.take_due(6.9)), (std::vector<uint64_t>{3})) << "3's second resend: its own schedule";
+  EXPECT_EQ(seqs(d.take_due(7.0)), (std::vector<uint64_t>{1, 2})) << "then 4 s, the cap";
+  EXPECT_TRUE(d.take_due(10.8).empty());
+  EXPECT_EQ(seqs(d.take_due(11.0)), (std::vector<uint64_t>{1, 2, 3})) << "4 s again: capped at resend_timeout_max";
   EXPECT_EQ(d.counters().sent, 3u);
-  EXPECT_EQ(d.counters().resent, 5u);
+  EXPECT_EQ(d.counters().resent, 11u);
+}
+
+TEST(KeyFrameDelivery, FirstAckAfterASilenceMakesTheRestDueAtOnce) {
+  DeliveryParams p;
+  p.resend_timeout = 1.0;
+  KeyFrameDelivery d(p);
+  for (uint64_t s = 1; s <= 4; ++s) d.add(record(s));
+  d.take_due(0.0);
+  d.on_ack(ack(1, 1, 1), 0.1);
+  d.take_due(1.1);  // 2-4 resent, next wait 2 s
+  d.take_due(3.1);  // and again, next wait 4 s: the link is down
+  d.on_ack(ack(1, 2, 2), 5.0);  // back after 4.9 s of silence: 3-4 go now, not at 7.1
+  EXPECT_EQ(seqs(d.take_due(5.0)), (std::vector<uint64_t>{3, 4}));
+  EXPECT_EQ(seqs(d.take_due(6.0)), (std::vector<uint64_t>{3, 4})) << "backoff restarted at resend_timeout";
 }
 
 TEST(KeyFrameDelivery, RestartedEdgeGetsEverythingAfterItsDurableSeqAtOnce) {
@@ -144,6 +164,9 @@ TEST(KeyFrameDelivery, RejectsBadParameters) {
   p.capacity = 1;
   p.resend_timeout = 0;
   EXPECT_THROW(KeyFrameDelivery{p}, std::invalid_argument);
+  p.resend_timeout = 2.0;
+  p.resend_timeout_max = 1.0;
+  EXPECT_THROW(KeyFrameDelivery{p}, std::invalid_argument) << "the cap below the first timeout";
 }
 
 TEST(KeyFrameReceipts, ContiguousSeqOverOutOfOrderAndDuplicates) {

@@ -11,12 +11,15 @@ DeliveryParams load_delivery_params(const ConfigMap& cfg) {
   DeliveryParams p;
   p.capacity = static_cast<size_t>(cfg.get_int_or("delivery/resend_capacity", 2000, 1, 100000));
   p.resend_timeout = cfg.get_double_or("delivery/resend_timeout", 1.0, 0.05, 60.0);
+  p.resend_timeout_max = cfg.get_double_or("delivery/resend_timeout_max", 8.0, p.resend_timeout, 600.0);
   return p;
 }
 
 KeyFrameDelivery::KeyFrameDelivery(const DeliveryParams& params) : params_(params) {
   if (params_.capacity == 0) throw std::invalid_argument("KeyFrame delivery capacity must be >= 1");
   if (!(params_.resend_timeout > 0)) throw std::invalid_argument("KeyFrame resend timeout must be > 0");
+  if (!(params_.resend_timeout_max >= params_.resend_timeout))
+    throw std::invalid_argument("KeyFrame resend_timeout_max must be >= resend_timeout");
 }
 
 bool KeyFrameDelivery::add(RecordPtr record) {
@@ -39,9 +42,10 @@ std::vector<KeyFrameDelivery::RecordPtr> KeyFrameDelivery::take_due(double now) 
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<RecordPtr> due;
   for (Entry& e : entries_) {
-    if (e.acked || (e.last_sent >= 0 && now - e.last_sent < params_.resend_timeout)) continue;
+    if (e.acked || (e.last_sent >= 0 && now - e.last_sent < e.wait)) continue;
     ++(e.sends == 0 ? counters_.sent : counters_.resent);
     ++e.sends;
+    e.wait = e.last_sent < 0 ? params_.resend_timeout : std::min(2 * e.wait, params_.resend_timeout_max);
     e.last_sent = now;
     due.push_back(e.record);
   }
@@ -59,6 +63,8 @@ void KeyFrameDelivery::free_through(uint64_t seq) {
 void KeyFrameDelivery::on_ack(const KeyFrameAck& ack, double now) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.acks;
+  // The first acknowledgement after a silence: the link is back, what it lacks goes now.
+  const bool link_back = last_ack_time_ >= 0 && now - last_ack_time_ > params_.resend_timeout;
   last_ack_time_ = now;
   const bool restarted = have_boot_ && ack.boot_id != boot_id_;
   if (restarted) ++counters_.edge_restarts;
@@ -73,7 +79,7 @@ void KeyFrameDelivery::on_ack(const KeyFrameAck& ack, double now) {
       ++counters_.acknowledged;
     }
     // A restarted edge kept only its checkpoint: what it had beyond goes again, at once.
-    if (!received && (e.acked || restarted)) e.last_sent = -1;
+    if (!received && (e.acked || restarted || link_back)) e.last_sent = -1;
     e.acked = received;
   }
   free_through(ack.persistent ? std::min(ack.durable_seq, received_seq_) : received_seq_);

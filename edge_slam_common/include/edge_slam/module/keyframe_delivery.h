@@ -29,6 +29,9 @@ struct KeyFrameAck {
 struct DeliveryParams {
   size_t capacity = 2000;       // records held (sent, not yet durable); oldest dropped beyond
   double resend_timeout = 1.0;  // seconds without acknowledgement before a record is sent again
+  // Each further resend of a record waits twice as long, up to this: through a long outage the
+  // link is not flooded with copies (the first acknowledgement after it makes them due at once).
+  double resend_timeout_max = 8.0;
 };
 
 class ConfigMap;
@@ -63,6 +66,7 @@ class KeyFrameDelivery {
     RecordPtr record;
     double last_sent = -1;    // < 0: due at once (new, or lost by a restarted edge)
     uint32_t sends = 0;
+    double wait = 0;          // before the next resend (doubles per resend, reset by a returning link)
     bool acked = false;       // in the edge's received range (this boot)
     bool ever_acked = false;  // counted as acknowledged once
   };
