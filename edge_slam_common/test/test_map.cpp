@@ -2,6 +2,8 @@
 #include "edge_slam/sim/synthetic_camera.h"
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "edge_slam/data/keyframe.h"
@@ -137,3 +139,20 @@ TEST(Map, RebuildDropsLinksToAbsentPoints) {
   EXPECT_EQ(kfs[4]->weight(5), 0);               // shared points 200..259 are absent
   EXPECT_EQ(mps[130]->observations().count(2), 0u);
 }
+
+namespace edge_slam {
+// Scale prediction stays within the pyramid for any range, including the degenerate ones a
+// corrupt record can carry (found by fuzz_map_update_message: -inf reached an int conversion).
+TEST(ScalePyramid, PredictedLevelIsAlwaysAValidLevel) {
+  const ScalePyramid p = ScalePyramid::make(8, 1.2f);
+  EXPECT_EQ(p.predict_level(3.0, 3.0), 0);
+  EXPECT_EQ(p.predict_level(3.0, 3.0 / 1.2 / 1.2), 2);
+  EXPECT_EQ(p.predict_level(1e9, 1.0), 7) << "clamped to the coarsest level";
+  for (double max_d : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()})
+    for (double d : {0.0, -2.0, 1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+      const int level = p.predict_level(max_d, d);
+      EXPECT_GE(level, 0) << max_d << " / " << d;
+      EXPECT_LT(level, 8) << max_d << " / " << d;
+    }
+}
+}  // namespace edge_slam

@@ -36,12 +36,13 @@ struct ScalePyramid {
   // Pyramid level at which a point at distance `dist` should be observed, given that
   // it is seen at level 0 up to `max_distance` (ORB-SLAM2's scale prediction).
   int predict_level(double max_distance, double dist) const {
-    if (dist <= 0) return 0;
-    const double ratio = max_distance / dist;
-    int level = static_cast<int>(std::ceil(std::log(ratio) / log_scale_factor));
-    if (level < 0) level = 0;
-    if (level >= num_levels) level = num_levels - 1;
-    return level;
+    // Clamped in floating point: a degenerate range (0, negative, NaN, e.g. from a corrupt
+    // record) must not reach the int conversion as +-inf or NaN.
+    if (!(dist > 0)) return 0;
+    const double level = std::ceil(std::log(max_distance / dist) / log_scale_factor);
+    if (!(level > 0)) return 0;
+    if (level >= num_levels - 1) return num_levels - 1;
+    return static_cast<int>(level);
   }
 };
 
