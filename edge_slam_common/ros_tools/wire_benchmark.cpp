@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
     write_stats(out, "update_points", up_points);
     write_stats(out, "update_serialize_ms", up_ser);
     write_stats(out, "update_deserialize_ms", up_deser);
-    write_stats(out, "update_stage_ms", stage, true);
+    write_stats(out, "update_stage_ms", stage);
     write_stats(out, "update_rebuild_ms", rebuild, true);
     out << "}\n";
     if (!out) throw std::runtime_error("cannot write '" + args["out"] + "'");
