@@ -4,10 +4,12 @@
 #include <edge_slam/camera/pinhole_camera.h>
 #include <edge_slam/data/bow_vocabulary.h>
 #include <edge_slam/data/scale_pyramid.h>
+#include <edge_slam/io/vocabulary_io.h>
 #include <edge_slam_bridge/message_conversion.h>
 
 #include <memory>
 #include <random>
+#include <stdexcept>
 
 #include "../bridge/test/support/wire_fixtures.h"
 
@@ -44,6 +46,19 @@ inline cv::Mat random_descriptors(int rows, unsigned seed) {
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < 32; ++c) d.at<uint8_t>(r, c) = static_cast<uint8_t>(rng());
   return d;
+}
+
+// Loads a vocabulary file image (either format) and uses the tree once, as tracking would;
+// refusing the bytes with std::runtime_error is a correct outcome.
+inline void load_and_use_vocabulary(const uint8_t* data, size_t size) {
+  try {
+    const BowVocabulary voc = load_vocabulary_from_bytes(data, size, "fuzz input");
+    static const cv::Mat descriptors = random_descriptors(20, 5);
+    BowVector bow;
+    FeatureVector features;
+    voc.transform(descriptors, bow, features, 1);
+  } catch (const std::runtime_error&) {
+  }
 }
 
 inline std::shared_ptr<const BowVocabulary> vocabulary() {

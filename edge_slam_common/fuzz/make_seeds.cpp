@@ -29,9 +29,7 @@ void write(const std::string& dir, int n, const uint8_t* data, size_t size) {
 
 template <class Msg>
 void write_message(const std::string& dir, int n, const Msg& msg) {
-  std::vector<uint8_t> bytes(ros::serialization::serializationLength(msg));
-  ros::serialization::OStream stream(bytes.data(), static_cast<uint32_t>(bytes.size()));
-  ros::serialization::serialize(stream, msg);
+  const std::vector<uint8_t> bytes = fixtures::serialized(msg);
   write(dir, n, bytes.data(), bytes.size());
 }
 

@@ -12,14 +12,6 @@
 namespace edge_slam {
 namespace {
 
-template <class Msg>
-std::vector<uint8_t> bytes_of(const Msg& msg) {
-  std::vector<uint8_t> out(ros::serialization::serializationLength(msg));
-  ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
-  ros::serialization::serialize(stream, msg);
-  return out;
-}
-
 // wire_layout.h follows these definitions field by field: when a .msg file changes, its
 // MD5 changes and this test says to update the walk (then the sums here).
 TEST(CheckedDeserialization, WalkMatchesTheMessageDefinitions) {
@@ -31,26 +23,26 @@ TEST(CheckedDeserialization, WalkMatchesTheMessageDefinitions) {
 TEST(CheckedDeserialization, ValidBytesComeBackEqual) {
   const edge_slam_msgs::KeyFrame kf = to_message(fixtures::keyframe(3, 70, 30, 12));
   edge_slam_msgs::KeyFrame kf_out;
-  DecodeStatus s = deserialize_checked(bytes_of(kf).data(), bytes_of(kf).size(), kf_out);
+  DecodeStatus s = deserialize_checked(fixtures::serialized(kf).data(), fixtures::serialized(kf).size(), kf_out);
   ASSERT_TRUE(s.ok) << s.error;
-  EXPECT_EQ(bytes_of(kf_out), bytes_of(kf));
+  EXPECT_EQ(fixtures::serialized(kf_out), fixtures::serialized(kf));
 
   const edge_slam_msgs::Frame frame = to_message(fixtures::frame(90));
   edge_slam_msgs::Frame frame_out;
-  s = deserialize_checked(bytes_of(frame).data(), bytes_of(frame).size(), frame_out);
+  s = deserialize_checked(fixtures::serialized(frame).data(), fixtures::serialized(frame).size(), frame_out);
   ASSERT_TRUE(s.ok) << s.error;
-  EXPECT_EQ(bytes_of(frame_out), bytes_of(frame));
+  EXPECT_EQ(fixtures::serialized(frame_out), fixtures::serialized(frame));
 
   const edge_slam_msgs::MapUpdate update = to_message(fixtures::map_update(5, 40, 25));
   edge_slam_msgs::MapUpdate update_out;
-  const std::vector<uint8_t> b = bytes_of(update);
+  const std::vector<uint8_t> b = fixtures::serialized(update);
   s = deserialize_checked(b.data(), b.size(), update_out);
   ASSERT_TRUE(s.ok) << s.error;
-  EXPECT_EQ(bytes_of(update_out), b);
+  EXPECT_EQ(fixtures::serialized(update_out), b);
 }
 
 TEST(CheckedDeserialization, TruncatedPaddedAndLyingBytesAreRefused) {
-  const std::vector<uint8_t> good = bytes_of(to_message(fixtures::keyframe(3, 70, 30, 12)));
+  const std::vector<uint8_t> good = fixtures::serialized(to_message(fixtures::keyframe(3, 70, 30, 12)));
   edge_slam_msgs::KeyFrame out;
   for (size_t cut : {size_t{0}, size_t{1}, size_t{50}, good.size() / 2, good.size() - 1}) {
     const DecodeStatus s = deserialize_checked(good.data(), cut, out);
@@ -75,7 +67,7 @@ TEST(CheckedDeserialization, TruncatedPaddedAndLyingBytesAreRefused) {
   EXPECT_FALSE(s.ok);
   EXPECT_NE(s.error.find("kp_xy"), std::string::npos) << s.error;
 
-  const std::vector<uint8_t> update = bytes_of(to_message(fixtures::map_update(2, 10, 5)));
+  const std::vector<uint8_t> update = fixtures::serialized(to_message(fixtures::map_update(2, 10, 5)));
   edge_slam_msgs::MapUpdate update_out;
   std::vector<uint8_t> many = update;
   const uint32_t claimed = 100000;  // KeyFrames that cannot fit in the bytes that follow

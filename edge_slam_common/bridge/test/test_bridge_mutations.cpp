@@ -15,14 +15,6 @@
 namespace edge_slam {
 namespace {
 
-template <class Msg>
-std::vector<uint8_t> bytes_of(const Msg& msg) {
-  std::vector<uint8_t> out(ros::serialization::serializationLength(msg));
-  ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
-  ros::serialization::serialize(stream, msg);
-  return out;
-}
-
 // One to four edits: flipped bits, overwritten 32-bit words (lengths, ids, counts), cuts.
 std::vector<uint8_t> mutate(std::vector<uint8_t> b, std::mt19937& rng) {
   const int edits = 1 + static_cast<int>(rng() % 4);
@@ -55,9 +47,9 @@ TEST(BridgeMutations, TenThousandMutatedMessagesNeverCrashAndRejectedOnesChangeN
   const PinholeCamera camera = fixtures::pinhole_camera();
   const auto pyramid = std::make_shared<const ScalePyramid>(ScalePyramid::make(8, 1.2f));
   const MapUpdateRecord baseline = fixtures::map_update(3, 30, 20);
-  const std::vector<uint8_t> update = bytes_of(to_message(baseline));
-  const std::vector<uint8_t> keyframe = bytes_of(to_message(fixtures::keyframe(4, 40, 15, 10)));
-  const std::vector<uint8_t> frame = bytes_of(to_message(fixtures::frame(40)));
+  const std::vector<uint8_t> update = fixtures::serialized(to_message(baseline));
+  const std::vector<uint8_t> keyframe = fixtures::serialized(to_message(fixtures::keyframe(4, 40, 15, 10)));
+  const std::vector<uint8_t> frame = fixtures::serialized(to_message(fixtures::frame(40)));
   Map local_map;
   rebuild_from_update(local_map, baseline, camera, pyramid, nullptr);
   const size_t keyframes = local_map.num_keyframes(), points = local_map.num_map_points();

@@ -4,11 +4,22 @@
 #pragma once
 #include <edge_slam/camera/pinhole_camera.h>
 #include <edge_slam_bridge/message_conversion.h>
+#include <ros/serialization.h>
 
 #include <random>
+#include <vector>
 
 namespace edge_slam {
 namespace fixtures {
+
+// A message as it travels: its ROS serialization.
+template <class Msg>
+std::vector<uint8_t> serialized(const Msg& msg) {
+  std::vector<uint8_t> out(ros::serialization::serializationLength(msg));
+  ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
+  ros::serialization::serialize(stream, msg);
+  return out;
+}
 
 inline CameraRecord camera() { return {"synthetic_room", 525, 525, 319.5, 239.5, 40.0, 3.05f, 640, 480}; }
 
