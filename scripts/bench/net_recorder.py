@@ -9,12 +9,14 @@ the ROS master to appear, so it can be started before roslaunch; stops on SIGINT
 Rows: wall time, topic, bytes.
 """
 import argparse
-import signal
+import os
 import sys
 import time
 
-import rosgraph
 import rospy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from recorder_node import run_recorder  # noqa: E402
 
 
 def main():
@@ -24,31 +26,25 @@ def main():
     ap.add_argument("--topics", nargs="+", default=["keyframes", "frames", "map_updates"])
     ap.add_argument("--master-timeout", type=float, default=120.0)
     args = ap.parse_args(rospy.myargv()[1:])
+    files = []
 
-    stop = []
-    signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
-    signal.signal(signal.SIGINT, lambda *_: stop.append(1))
-    deadline = time.monotonic() + args.master_timeout
-    while not rosgraph.is_master_online():
-        if stop or time.monotonic() > deadline:
-            sys.exit("net_recorder: no ROS master")
-        time.sleep(0.2)
+    def subscribe():
+        out = open(args.out, "w", buffering=1)
+        out.write("t,topic,bytes\n")
+        files.append(out)
 
-    out = open(args.out, "w", buffering=1)
-    out.write("t,topic,bytes\n")
+        def record(topic):
+            def callback(msg):
+                out.write(f"{time.time():.3f},{topic},{len(msg._buff)}\n")
+            return callback
 
-    def record(topic):
-        def callback(msg):
-            out.write(f"{time.time():.3f},{topic},{len(msg._buff)}\n")
-        return callback
+        for topic in args.topics:
+            rospy.Subscriber(f"{args.ns.rstrip('/')}/{topic}", rospy.AnyMsg, record(topic), queue_size=1000,
+                             buff_size=64 << 20)
 
-    rospy.init_node("bench_net_recorder", anonymous=True, disable_signals=True)
-    for topic in args.topics:
-        rospy.Subscriber(f"{args.ns.rstrip('/')}/{topic}", rospy.AnyMsg, record(topic), queue_size=1000,
-                         buff_size=64 << 20)
-    while not stop and rosgraph.is_master_online():
-        time.sleep(0.2)
-    out.flush()
+    run_recorder("bench_net_recorder", subscribe, args.master_timeout)
+    for f in files:
+        f.flush()
     rospy.signal_shutdown("done")
 
 

@@ -8,13 +8,14 @@ namespaces) instead of going through scripts/eval.sh. One line per message: the 
 and the pose of the camera in the map frame. Waits for the master; stops on SIGINT/SIGTERM.
 """
 import argparse
-import signal
+import os
 import sys
-import time
 
-import rosgraph
 import rospy
 from nav_msgs.msg import Odometry
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from recorder_node import run_recorder  # noqa: E402
 
 
 def main():
@@ -22,27 +23,23 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--topic", default="/edge_slam/mobile/odometry")
     args = ap.parse_args(rospy.myargv()[1:])
-    stop = []
-    signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
-    signal.signal(signal.SIGINT, lambda *_: stop.append(1))
-    deadline = time.monotonic() + 120
-    while not rosgraph.is_master_online():
-        if stop or time.monotonic() > deadline:
-            sys.exit("odometry_recorder: no ROS master")
-        time.sleep(0.2)
-    out = open(args.out, "w", buffering=1)
-    out.write("# timestamp tx ty tz qx qy qz qw (mobile odometry)\n")
+    files = []
 
-    def on_odometry(msg):
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        out.write(f"{msg.header.stamp.to_sec():.6f} {p.x:.6f} {p.y:.6f} {p.z:.6f} "
-                  f"{q.x:.6f} {q.y:.6f} {q.z:.6f} {q.w:.6f}\n")
+    def subscribe():
+        out = open(args.out, "w", buffering=1)
+        out.write("# timestamp tx ty tz qx qy qz qw (mobile odometry)\n")
+        files.append(out)
 
-    rospy.init_node("bench_odometry_recorder", anonymous=True, disable_signals=True)
-    rospy.Subscriber(args.topic, Odometry, on_odometry, queue_size=100)
-    while not stop and rosgraph.is_master_online():
-        time.sleep(0.2)
-    out.flush()
+        def on_odometry(msg):
+            p, q = msg.pose.pose.position, msg.pose.pose.orientation
+            out.write(f"{msg.header.stamp.to_sec():.6f} {p.x:.6f} {p.y:.6f} {p.z:.6f} "
+                      f"{q.x:.6f} {q.y:.6f} {q.z:.6f} {q.w:.6f}\n")
+
+        rospy.Subscriber(args.topic, Odometry, on_odometry, queue_size=100)
+
+    run_recorder("bench_odometry_recorder", subscribe)
+    for f in files:
+        f.flush()
     rospy.signal_shutdown("done")
 
 
