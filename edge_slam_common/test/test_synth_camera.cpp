@@ -35,7 +35,7 @@ TEST(SynthCamera, ConfigFileMatchesGeneratedCameraYaml) {
 TEST(SynthCamera, YamlHasEveryKeyOnce) {
   const std::string y = camera_yaml(synthetic_room_camera(15.0), "t");
   for (const char* key : {"name", "width", "height", "fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3",
-                          "fps", "bf", "th_depth", "depth_factor", "rgb_encoding"}) {
+                          "fps", "rolling_shutter_readout", "bf", "th_depth", "depth_factor", "rgb_encoding"}) {
     const std::string needle = std::string("\n  ") + key + ": ";
     const size_t at = y.find(needle);
     ASSERT_NE(at, std::string::npos) << key;

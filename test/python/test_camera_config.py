@@ -9,7 +9,7 @@ import yaml
 CONFIG = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)),
                                        '..', '..', 'config', 'camera_synthetic.yaml'))
 KEYS = {'name', 'width', 'height', 'fx', 'fy', 'cx', 'cy', 'k1', 'k2', 'p1', 'p2', 'k3', 'fps',
-        'bf', 'th_depth', 'depth_factor', 'rgb_encoding'}
+        'rolling_shutter_readout', 'bf', 'th_depth', 'depth_factor', 'rgb_encoding'}
 
 
 class CameraConfigTest(unittest.TestCase):
@@ -27,6 +27,7 @@ class CameraConfigTest(unittest.TestCase):
         self.assertEqual([cam[k] for k in ('k1', 'k2', 'p1', 'p2', 'k3')], [0.0] * 5)
         self.assertEqual((cam['bf'], cam['th_depth'], cam['depth_factor']), (40.0, 40.0, 5000.0))
         self.assertEqual(cam['rgb_encoding'], 'rgb8')
+        self.assertEqual(cam['rolling_shutter_readout'], 0.0)  # the renderer is a global shutter
         self.assertIsInstance(cam['fx'], float)
 
 

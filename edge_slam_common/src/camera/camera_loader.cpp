@@ -19,6 +19,8 @@ PinholeCamera load_camera(const ConfigMap& cfg) {
   cam.p2 = cfg.get_double_or("camera/p2", 0.0, -100, 100);
   cam.k3 = cfg.get_double_or("camera/k3", 0.0, -100, 100);
   cam.fps = cfg.get_double_or("camera/fps", 30.0, 0.1, 10000);
+  // Negative: bottom row first. At most one second (a readout is shorter than a frame period).
+  cam.rolling_shutter_readout = cfg.get_double_or("camera/rolling_shutter_readout", 0.0, -1.0, 1.0);
   cam.bf = cfg.get_double("camera/bf", 1e-9, 1e7);
   const double th_depth_baselines = cfg.get_double("camera/th_depth", 1e-6, 1e6);
   cam.th_depth = th_depth_baselines * cam.bf / cam.fx;

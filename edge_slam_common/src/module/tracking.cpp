@@ -6,6 +6,7 @@
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/data/rolling_shutter.h"
 #include "edge_slam/match/orb_matcher.h"
 #include "edge_slam/module/frame_pose.h"
 #include "edge_slam/module/keyframe_decision.h"
@@ -129,6 +130,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
 
   bool ok = false;
   int inliers = 0;
+  const std::shared_ptr<const FrameFeatures> measured_features = frame.features;  // before compensation
   if (state_ == TrackingState::kNotInitialized) {
     std::string why;
     ok = initialize(frame, why);
@@ -142,7 +144,11 @@ TrackingResult Tracking::track_frame(Frame frame) {
   } else {
     if (state_ == TrackingState::kOk) {
       predict_last_frame_pose();
-      if (has_velocity_ && last_frame_tracked_) ok = track_with_motion_model(frame);
+      if (has_velocity_ && last_frame_tracked_) {
+        // Rolling shutter, first pass: assume the previous frame's velocity.
+        frame.features = compensate_rolling_shutter(measured_features, velocity_per_second_);
+        ok = track_with_motion_model(frame);
+      }
       if (!ok) ok = track_reference_keyframe(frame);
       if (!ok) result.message = "motion model and reference keyframe tracking failed";
     } else {
@@ -160,6 +166,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
     if (ok) {
       if (!frame.reference_kf) frame.reference_kf = reference_kf_;
       ok = track_local_map(frame, inliers);
+      if (ok) recompensate_rolling_shutter(frame, measured_features);
       if (!ok) result.message = "local map tracking found too few inliers (" + std::to_string(inliers) + ")";
     }
     if (ok && !finite_pose(frame.T_cw())) {
@@ -169,6 +176,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
     if (ok) {
       if (last_frame_tracked_) {
         velocity_ = frame.T_cw() * last_frame_.T_wc();
+        velocity_per_second_ = CameraVelocity::from_motion(velocity_, frame.stamp - last_frame_.stamp);
         has_velocity_ = true;
       } else {
         has_velocity_ = false;
@@ -239,6 +247,15 @@ bool Tracking::track_with_motion_model(Frame& frame) {
   if (n < kMinMotionMatches) return false;
   if (optimize_frame_pose(frame) < 0) return false;
   return discard_outliers(frame) >= kMinMapMatchesAfterPose;
+}
+
+void Tracking::recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<const FrameFeatures>& measured) {
+  if (camera_.rolling_shutter_readout == 0 || !last_frame_tracked_) return;
+  // Second pass: the motion from the last frame to this frame's tracked pose is closer in time
+  // to this exposure than the previous frame's velocity. Same keypoints, so the matches stay.
+  frame.features = compensate_rolling_shutter(
+      measured, CameraVelocity::from_motion(frame.T_cw() * last_frame_.T_wc(), frame.stamp - last_frame_.stamp));
+  optimize_frame_pose(frame);
 }
 
 bool Tracking::track_reference_keyframe(Frame& frame) {

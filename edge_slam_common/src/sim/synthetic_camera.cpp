@@ -51,6 +51,8 @@ std::string camera_yaml(const PinholeCamera& c, const std::string& title, const 
       {"p2", yaml_float(c.p2), "tangential distortion"},
       {"k3", yaml_float(c.k3), "radial distortion"},
       {"fps", yaml_float(c.fps), "frame rate (Hz)"},
+      {"rolling_shutter_readout", yaml_float(c.rolling_shutter_readout),
+       "s from the top row's exposure to the bottom row's; 0 = global shutter (the renderer)"},
       {"bf", yaml_float(c.bf), "virtual stereo baseline (m) * fx, as ORB-SLAM2's TUM1.yaml"},
       {"th_depth", yaml_float(c.bf > 0 ? c.th_depth * c.fx / c.bf : 0.0),
        "close/far threshold in baselines (ORB-SLAM2 ThDepth): th_depth * bf / fx metres"},

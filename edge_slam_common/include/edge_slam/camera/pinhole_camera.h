@@ -17,6 +17,9 @@ struct PinholeCamera {
   double depth_factor = 1;   // raw 16UC1 depth value / depth_factor = metres
   double th_depth = 0;       // close/far threshold in metres (ORB-SLAM2: ThDepth * bf / fx)
   double fps = 30;
+  // Rolling shutter: seconds from the first to the last row's exposure (top row first);
+  // 0 = global shutter. Compensated with the tracker's velocity (data/rolling_shutter.h).
+  double rolling_shutter_readout = 0;
 
   double baseline() const { return bf / fx; }
   bool has_distortion() const { return k1 != 0 || k2 != 0 || p1 != 0 || p2 != 0 || k3 != 0; }

@@ -19,6 +19,7 @@
 #include "edge_slam/data/frame.h"
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
+#include "edge_slam/data/rolling_shutter.h"
 #include "edge_slam/feature/orb_extractor.h"
 #include "edge_slam/module/local_map.h"
 #include "edge_slam/module/relocalizer.h"
@@ -102,6 +103,8 @@ class Tracking {
   bool track_with_motion_model(Frame& frame);
   bool track_reference_keyframe(Frame& frame);
   bool track_local_map(Frame& frame, int& inliers);
+  // Rolling-shutter compensation with the motion just tracked, then a pose refinement.
+  void recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<const FrameFeatures>& measured);
   void search_local_points(Frame& frame, const LocalMap& local);
   bool decide_keyframe(const Frame& frame, int inliers) const;
   std::shared_ptr<KeyFrame> create_keyframe(Frame& frame, bool all_depth_points);
@@ -124,6 +127,7 @@ class Tracking {
   Eigen::Isometry3d last_relative_to_ref_ = Eigen::Isometry3d::Identity();  // T_last,ref
   bool has_velocity_ = false;
   Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // T_cur,last
+  CameraVelocity velocity_per_second_;  // the same motion as a rate, for rolling-shutter compensation
   std::shared_ptr<KeyFrame> reference_kf_;
   uint64_t last_keyframe_frame_id_ = 0;
   bool relocalized_before_ = false;
