@@ -21,14 +21,6 @@ PinholeCamera rolling_camera(double readout) {
   return c;
 }
 
-// The camera's motion from the time stamp to tau later, as compensate_rolling_shutter models it.
-Eigen::Vector3d at_stamp(const CameraVelocity& v, const Eigen::Vector3d& X_row, double tau) {
-  const double angle = v.angular.norm() * tau;
-  const Eigen::Matrix3d R = angle == 0 ? Eigen::Matrix3d::Identity()
-                                       : Eigen::AngleAxisd(angle, v.angular.normalized()).toRotationMatrix();
-  return R * X_row + v.linear * tau;
-}
-
 struct Scene {
   std::vector<Eigen::Vector3d> at_stamp;  // points in the camera frame at the time stamp
   std::shared_ptr<const FrameFeatures> observed;  // what the rolling shutter recorded
