@@ -2,12 +2,16 @@
 // every associated frame of a TUM-format folder, waits for mapping and the full BA to
 // finish, and writes <out>/trajectory.txt (TUM, T_wc of every tracked frame, relative to
 // its reference keyframe's final pose), <out>/keyframes.txt, <out>/metrics.json and
+// <out>/trajectory_online.txt (each frame's pose as tracked: what a robot would have navigated on),
 // <out>/frame_times.csv (per frame: stamp, state, tracking wall/CPU ms; latency over time).
 //
 //   edge_slam_run --dataset <TUM folder> [--camera <yaml>] [--config config/slam.yaml]
 //                 [--vocabulary <file>] --out <dir> [--max-frames N] [--mode monolithic]
-//                 [--pace realtime|none] [--no-mapping] [--no-loop] [--every K]
+//                 [--pace realtime|none|sync] [--no-mapping] [--no-loop] [--every K]
 // --every K tracks only every K-th associated frame (frame-rate robustness tests).
+// --pace sync is the deterministic replay for debugging: frames one by one, and after each
+// one the runner waits until Local-Mapping and Loop-Closing have finished what it gave them,
+// so a run does not depend on the machine's load (the figures come from --pace realtime).
 #include <sys/stat.h>
 
 #include <chrono>
@@ -49,9 +53,13 @@ int usage(const char* msg) {
   if (msg) std::cerr << "edge_slam_run: " << msg << "\n";
   std::cerr << "usage: edge_slam_run --dataset <TUM folder> [--camera <yaml>] [--config <slam.yaml>]\n"
                "                     [--vocabulary <file>] --out <dir> [--max-frames N] [--mode monolithic]\n"
-               "                     [--pace realtime|none] [--no-mapping] [--no-loop] [--every K]\n"
+               "                     [--pace realtime|none|sync] [--no-mapping] [--no-loop] [--every K]\n"
                "  --camera defaults to <dataset>/camera.yaml; --vocabulary to vocabulary/path in the config.\n"
                "  --pace realtime (default) feeds frames at their timestamps, as ORB-SLAM2's runner does;\n"
+               "  --pace none as fast as tracking goes; --pace sync (deterministic replay) also waits after\n"
+               "  each frame until mapping and loop closing are idle, so a run is reproducible under any load;\n"
+               "  there KeyFrame condition 2 sees the mapper busy for --sync-mapping-frames N (5) frames after\n"
+               "  each KeyFrame, as a real-time mapper of ~170 ms per KeyFrame would be;\n"
                "  --no-mapping tracks only (no local mapping, no loop closing); --no-loop skips loop closing.\n";
   return 1;
 }
@@ -83,7 +91,7 @@ int main(int argc, char** argv) {
   }
   for (const auto& [k, v] : args)
     if (k != "dataset" && k != "camera" && k != "config" && k != "vocabulary" && k != "out" && k != "max-frames" &&
-        k != "mode" && k != "pace" && k != "every")
+        k != "mode" && k != "pace" && k != "every" && k != "sync-mapping-frames")
       return usage(("unknown option --" + k).c_str());
   if (!args.count("dataset")) return usage("--dataset is required");
   if (!args.count("out")) return usage("--out is required");
@@ -93,7 +101,7 @@ int main(int argc, char** argv) {
   const std::string mode = args.count("mode") ? args["mode"] : "monolithic";
   if (mode != "monolithic") return usage(("--mode " + mode + ": only monolithic runs in this process").c_str());
   const std::string pace = args.count("pace") ? args["pace"] : "realtime";
-  if (pace != "realtime" && pace != "none") return usage("--pace takes realtime or none");
+  if (pace != "realtime" && pace != "none" && pace != "sync") return usage("--pace takes realtime, none or sync");
 
   try {
     if (!file_exists(dataset_dir)) throw std::runtime_error("dataset folder '" + dataset_dir + "' does not exist");
@@ -139,6 +147,8 @@ int main(int argc, char** argv) {
     options.loop_closing = !no_mapping && !no_loop;
     options.mapping = load_local_mapping_params(cfg);
     options.final_full_ba_iterations = cfg.get_int_or("loop_closing/final_full_ba_iterations", 0, 0, 1000);
+    // Deterministic replay: condition 2 sees a mapper that needs this many frames per KeyFrame.
+    if (pace == "sync") options.simulated_mapping_frames = count_arg("sync-mapping-frames", 5, 1);
     // Images come from OpenCV's imread, which always yields BGR.
     SlamSystem slam(camera, orb, tracking_params, vocabulary, options, RgbEncoding::kBgr);
     const Map& map_ref = slam.map();
@@ -148,8 +158,13 @@ int main(int argc, char** argv) {
     const auto wall_start = std::chrono::steady_clock::now();
     const double first_stamp = dataset.frames().empty() ? 0.0 : dataset.frames()[0].rgb_stamp;
     size_t processed = 0;
+    std::vector<std::pair<double, Eigen::Isometry3d>> online;  // T_wc as tracked, before later corrections
     std::ofstream frame_log(out_dir + "/frame_times.csv");
-    frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms\n" << std::fixed;
+    frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms,"
+                 "path,initial_matches,initial_inliers,local_map_points,matches_before_final,reference_points,"
+                 "tracked_close,untracked_close,keyframe_conditions,prediction_error_cm,prediction_error_deg,"
+                 "mapping_queue,local_ba_aborted\n"
+              << std::fixed;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
       if (pace == "realtime") {  // do not run ahead of the camera
@@ -164,13 +179,20 @@ int main(int argc, char** argv) {
         std::cerr << "frame " << i << ": " << e.what() << "\n";
       }
       const TrackingResult r = slam.track_rgbd(rgb, depth, dataset.frames()[i].rgb_stamp);
+      if (r.pose_valid) online.emplace_back(dataset.frames()[i].rgb_stamp, r.T_cw.inverse());
+      if (pace == "sync" && !slam.wait_until_idle(600.0))
+        std::cerr << "frame " << i << ": mapping did not become idle within 600 s\n";
       if (!r.message.empty() && (i < 3 || r.state != TrackingState::kOk))
         std::cerr << "frame " << i << " [" << to_string(r.state) << "]: " << r.message << "\n";
       if (r.relocalized) std::cerr << "frame " << i << ": relocalized\n";
       frame_log << std::setprecision(6) << dataset.frames()[i].rgb_stamp << ',' << to_string(r.state) << ','
                 << r.pose_valid << ',' << r.new_keyframe << ',' << r.relocalized << ',' << r.keypoints << ',' << r.inliers
-                << ',' << std::setprecision(3)
-                << r.time_ms << ',' << r.cpu_ms << '\n';
+                << ',' << std::setprecision(3) << r.time_ms << ',' << r.cpu_ms << ',' << r.diag.path << ','
+                << r.diag.initial_matches << ',' << r.diag.initial_inliers << ',' << r.diag.local_map_points << ','
+                << r.diag.matches_before_final << ',' << r.diag.reference_points << ',' << r.diag.tracked_close << ','
+                << r.diag.untracked_close << ',' << r.diag.keyframe_conditions << ',' << r.diag.prediction_error_m * 100
+                << ',' << r.diag.prediction_error_deg << ',' << (slam.local_mapping() ? slam.local_mapping()->queued() : 0)
+                << ',' << (slam.local_mapping() ? slam.local_mapping()->stats().local_ba_aborted : 0) << '\n';
       if (processed % 100 == 0)
         std::cerr << "frame " << i + 1 << "/" << n << "  keyframes " << map->num_keyframes() << "  points "
                   << map->num_map_points() << "  inliers " << r.inliers << "  " << std::fixed
@@ -180,6 +202,7 @@ int main(int argc, char** argv) {
     const auto trajectory = slam.trajectory();
     Tracking& tracking = slam.tracking();
     write_tum_trajectory(out_dir + "/trajectory.txt", trajectory);
+    write_tum_trajectory(out_dir + "/trajectory_online.txt", online);
     write_keyframes(out_dir + "/keyframes.txt", *map);
     const TrackingCounters& c = tracking.counters();
     const TimingStats t = summarize_times(tracking.frame_times_ms());

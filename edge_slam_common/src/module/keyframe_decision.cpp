@@ -7,10 +7,12 @@ bool relocalization_gap_passed(const KeyFrameDecisionParams& p, const KeyFrameDe
   return in.frame_id >= in.last_relocalization_frame_id + static_cast<uint64_t>(p.min_frames_after_relocalization);
 }
 
+bool weak_tracking(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {
+  return in.tracked_points < p.weak_ratio * in.reference_tracked_points || needs_close_points(p, in);
+}
+
 bool keyframe_gap_or_mapper_idle(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {
-  const bool weak_tracking = in.tracked_points < p.weak_ratio * in.reference_tracked_points ||
-                             needs_close_points(p, in);
-  return in.mapper_idle || weak_tracking ||
+  return in.mapper_idle || weak_tracking(p, in) ||
          in.frame_id >= in.last_keyframe_frame_id + static_cast<uint64_t>(p.max_frames_between_keyframes);
 }
 
@@ -25,6 +27,17 @@ bool tracks_fewer_than_reference(const KeyFrameDecisionParams& p, const KeyFrame
 bool needs_close_points(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {
   return in.tracked_close_points < p.close_points_tracked &&
          in.untracked_close_points > p.close_points_new;
+}
+
+uint32_t keyframe_condition_bits(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {
+  uint32_t bits = 0;
+  if (relocalization_gap_passed(p, in)) bits |= kCondRelocalizationGap;
+  if (keyframe_gap_or_mapper_idle(p, in)) bits |= kCondGapOrMapperIdle;
+  if (tracks_enough_points(p, in)) bits |= kCondEnoughPoints;
+  if (tracks_fewer_than_reference(p, in)) bits |= kCondFewerThanReference;
+  if (needs_close_points(p, in)) bits |= kCondNeedsClosePoints;
+  if (weak_tracking(p, in)) bits |= kCondWeakTracking;
+  return bits;
 }
 
 bool edge_conditions_hold(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {

@@ -44,7 +44,11 @@ void LocalMapping::shutdown(bool drain) {
 void LocalMapping::insert_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   set_idle(false);
   abort_ba_ = true;
-  if (queue_.push(kf)) std::cerr << "[mapping] queue full: oldest keyframe dropped\n";
+  ++submitted_;
+  if (queue_.push(kf)) {
+    ++completed_;
+    std::cerr << "[mapping] queue full: oldest keyframe dropped\n";
+  }
 }
 
 void LocalMapping::set_idle(bool idle) {
@@ -53,7 +57,7 @@ void LocalMapping::set_idle(bool idle) {
 
 bool LocalMapping::wait_until_idle(double timeout_s) const {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-  while (queue_.size() > 0 || busy_) {
+  while (completed_.load() < submitted_.load() && running_) {
     if (Clock::now() > deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -102,6 +106,7 @@ void LocalMapping::run() {
     set_idle(false);
     process_keyframe(*item);
     busy_ = false;
+    ++completed_;
     if (!new_keyframes_waiting()) set_idle(true);
   }
   {

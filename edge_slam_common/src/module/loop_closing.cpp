@@ -32,6 +32,7 @@ LoopClosing::~LoopClosing() { shutdown(false); }
 
 void LoopClosing::start() {
   if (thread_.joinable()) return;
+  running_ = true;
   thread_ = std::thread([this] { run(); });
 }
 
@@ -46,7 +47,11 @@ void LoopClosing::shutdown(bool drain) {
 }
 
 void LoopClosing::insert_keyframe(const std::shared_ptr<KeyFrame>& kf) {
-  if (queue_.push(kf)) std::cerr << "[loop] queue full: oldest keyframe dropped\n";
+  ++submitted_;
+  if (queue_.push(kf)) {
+    ++completed_;
+    std::cerr << "[loop] queue full: oldest keyframe dropped\n";
+  }
 }
 
 void LoopClosing::run() {
@@ -54,12 +59,14 @@ void LoopClosing::run() {
     busy_ = true;
     process_keyframe(*kf);
     busy_ = false;
+    ++completed_;
   }
+  running_ = false;
 }
 
 bool LoopClosing::wait_until_idle(double timeout_s) const {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-  while (queue_.size() > 0 || busy_ || full_ba_running_) {
+  while ((completed_.load() < submitted_.load() && running_) || full_ba_running_) {
     if (Clock::now() > deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }

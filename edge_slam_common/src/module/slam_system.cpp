@@ -23,7 +23,9 @@ SlamSystem::SlamSystem(const PinholeCamera& camera, const OrbParams& orb, const 
       loop_ = std::make_unique<LoopClosing>(map_, database_, mapping_.get(), options.loop);
       mapping_->on_keyframe_processed = [this](const std::shared_ptr<KeyFrame>& kf) { loop_->insert_keyframe(kf); };
     }
-    mapping_->on_idle_changed = [this](bool idle) { tracking_->set_mapper_idle(idle); };
+    simulated_mapping_frames_ = options.simulated_mapping_frames;
+    if (simulated_mapping_frames_ <= 0)
+      mapping_->on_idle_changed = [this](bool idle) { tracking_->set_mapper_idle(idle); };
   }
   tracking_->set_mapper_idle(true);
   tracking_->on_new_keyframe = [this](const std::shared_ptr<KeyFrame>& kf) {
@@ -43,15 +45,23 @@ SlamSystem::~SlamSystem() {
 }
 
 TrackingResult SlamSystem::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
+  simulate_mapper_state();
   return record(tracking_->track_rgbd(color, depth, stamp), stamp);
 }
 
 TrackingResult SlamSystem::track_frame(Frame frame) {
   const double stamp = frame.stamp;
+  simulate_mapper_state();
   return record(tracking_->track_frame(std::move(frame)), stamp);
 }
 
+void SlamSystem::simulate_mapper_state() {
+  if (simulated_mapping_frames_ > 0 && mapping_)
+    tracking_->set_mapper_idle(frames_since_keyframe_ >= simulated_mapping_frames_);
+}
+
 TrackingResult SlamSystem::record(const TrackingResult& r, double stamp) {
+  frames_since_keyframe_ = r.new_keyframe ? 1 : frames_since_keyframe_ + 1;
   if (!r.pose_valid) return r;
   const auto& ref = tracking_->last_frame().reference_kf;
   if (!ref) return r;
@@ -60,6 +70,20 @@ TrackingResult SlamSystem::record(const TrackingResult& r, double stamp) {
   std::lock_guard<std::mutex> lock(records_mutex_);
   frames_.push_back(FrameRecord{stamp, ref, r.T_cw * ref->T_wc()});
   return r;
+}
+
+bool SlamSystem::wait_until_idle(double timeout_s) const {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  auto remaining = [&] {
+    return std::max(0.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
+  };
+  bool ok = true;
+  // A processed KeyFrame goes on to loop closing, whose correction pauses mapping: twice round.
+  for (int round = 0; round < 2; ++round) {
+    if (mapping_) ok = mapping_->wait_until_idle(remaining()) && ok;
+    if (loop_) ok = loop_->wait_until_idle(remaining()) && ok;
+  }
+  return ok;
 }
 
 bool SlamSystem::finish(double timeout_s) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <unordered_set>
 
@@ -130,9 +131,12 @@ TrackingResult Tracking::track_frame(Frame frame) {
 
   bool ok = false;
   int inliers = 0;
+  Eigen::Isometry3d predicted_T_cw = Eigen::Isometry3d::Identity();
   const std::shared_ptr<const FrameFeatures> measured_features = frame.features;  // before compensation
+  TrackingDiagnostics& diag = result.diag;
   if (state_ == TrackingState::kNotInitialized) {
     std::string why;
+    diag.path = "init";
     ok = initialize(frame, why);
     if (ok) {
       state_ = TrackingState::kOk;
@@ -145,13 +149,16 @@ TrackingResult Tracking::track_frame(Frame frame) {
     if (state_ == TrackingState::kOk) {
       predict_last_frame_pose();
       if (has_velocity_ && last_frame_tracked_) {
+        predicted_T_cw = velocity_ * last_frame_.T_cw();
+        diag.has_prediction = true;
         // Rolling shutter, first pass: assume the previous frame's velocity.
         frame.features = compensate_rolling_shutter(measured_features, velocity_per_second_);
-        ok = track_with_motion_model(frame);
+        ok = track_with_motion_model(frame, diag);
       }
-      if (!ok) ok = track_reference_keyframe(frame);
+      if (!ok) ok = track_reference_keyframe(frame, diag);
       if (!ok) result.message = "motion model and reference keyframe tracking failed";
     } else {
+      diag.path = "relocalization";
       ok = relocalizer_ && relocalizer_->relocalize(frame);
       if (ok) {
         result.relocalized = true;
@@ -165,7 +172,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
     }
     if (ok) {
       if (!frame.reference_kf) frame.reference_kf = reference_kf_;
-      ok = track_local_map(frame, inliers);
+      ok = track_local_map(frame, inliers, diag);
       if (ok) recompensate_rolling_shutter(frame, measured_features);
       if (!ok) result.message = "local map tracking found too few inliers (" + std::to_string(inliers) + ")";
     }
@@ -182,7 +189,12 @@ TrackingResult Tracking::track_frame(Frame frame) {
         has_velocity_ = false;
       }
       state_ = TrackingState::kOk;
-      if (decide_keyframe(frame, inliers)) {
+      if (diag.has_prediction) {
+        const Eigen::Isometry3d d = predicted_T_cw * frame.T_wc();
+        diag.prediction_error_m = (frame.camera_center() - predicted_T_cw.inverse().translation()).norm();
+        diag.prediction_error_deg = Eigen::AngleAxisd(d.rotation()).angle() * 180.0 / M_PI;
+      }
+      if (decide_keyframe(frame, inliers, diag)) {
         create_keyframe(frame, false);
         result.new_keyframe = true;
       }
@@ -235,18 +247,22 @@ void Tracking::predict_last_frame_pose() {
     last_frame_.set_pose(last_relative_to_ref_ * last_frame_.reference_kf->T_cw());
 }
 
-bool Tracking::track_with_motion_model(Frame& frame) {
+bool Tracking::track_with_motion_model(Frame& frame, TrackingDiagnostics& diag) {
   const OrbMatcher matcher(0.9f, true);
   frame.set_pose(velocity_ * last_frame_.T_cw());
   clear_matches(frame);
+  diag.path = "motion";
   int n = matcher.search_by_projection(frame, last_frame_, kMotionModelWindow);
   if (n < kMinMotionMatches) {
     clear_matches(frame);
+    diag.path = "motion_wide";
     n = matcher.search_by_projection(frame, last_frame_, kMotionModelRetryWindow);
   }
+  diag.initial_matches = n;
   if (n < kMinMotionMatches) return false;
   if (optimize_frame_pose(frame) < 0) return false;
-  return discard_outliers(frame) >= kMinMapMatchesAfterPose;
+  diag.initial_inliers = discard_outliers(frame);
+  return diag.initial_inliers >= kMinMapMatchesAfterPose;
 }
 
 void Tracking::recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<const FrameFeatures>& measured) {
@@ -258,26 +274,28 @@ void Tracking::recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<
   optimize_frame_pose(frame);
 }
 
-bool Tracking::track_reference_keyframe(Frame& frame) {
+bool Tracking::track_reference_keyframe(Frame& frame, TrackingDiagnostics& diag) {
+  diag.path = "reference";
   if (!reference_kf_ || !last_frame_.has_pose()) return false;
   clear_matches(frame);
   frame.set_pose(last_frame_.T_cw());
   if (vocabulary_ && !vocabulary_->empty()) {
     frame.compute_bow(*vocabulary_);
     const OrbMatcher matcher(0.7f, true);
-    if (matcher.search_by_bow(*reference_kf_, reference_kf_->map_points(*map_), frame) < kMinBowMatches)
-      return false;
+    diag.initial_matches = matcher.search_by_bow(*reference_kf_, reference_kf_->map_points(*map_), frame);
+    if (diag.initial_matches < kMinBowMatches) return false;
   } else {
     // No vocabulary: assume no motion and search the last frame's points widely.
     const OrbMatcher matcher(0.9f, true);
-    if (matcher.search_by_projection(frame, last_frame_, kMotionModelRetryWindow) < kMinMotionMatches)
-      return false;
+    diag.initial_matches = matcher.search_by_projection(frame, last_frame_, kMotionModelRetryWindow);
+    if (diag.initial_matches < kMinMotionMatches) return false;
   }
   if (optimize_frame_pose(frame) < 0) return false;
-  return discard_outliers(frame) >= kMinMapMatchesAfterPose;
+  diag.initial_inliers = discard_outliers(frame);
+  return diag.initial_inliers >= kMinMapMatchesAfterPose;
 }
 
-void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
+int Tracking::search_local_points(Frame& frame, const LocalMap& local) {
   std::unordered_set<uint32_t> in_frame;
   for (auto& mp : frame.map_points) {
     if (!mp) continue;
@@ -298,13 +316,14 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
       projected.push_back(std::move(p));
     }
   }
-  if (projected.empty()) return;
+  if (projected.empty()) return 0;
   const bool just_relocalized = relocalized_before_ && frame.id < last_relocalization_frame_id_ + 2;
   const OrbMatcher matcher(0.8f, true);
   matcher.search_by_projection(frame, projected, just_relocalized ? 5.f : kLocalMapWindow);
+  return static_cast<int>(projected.size());
 }
 
-bool Tracking::track_local_map(Frame& frame, int& inliers) {
+bool Tracking::track_local_map(Frame& frame, int& inliers, TrackingDiagnostics& diag) {
   inliers = 0;
   const LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
   if (local.reference) {
@@ -312,7 +331,8 @@ bool Tracking::track_local_map(Frame& frame, int& inliers) {
     frame.reference_kf = local.reference;
   }
   map_->set_reference_map_points(local.points);
-  search_local_points(frame, local);
+  diag.local_map_points = search_local_points(frame, local);
+  diag.matches_before_final = frame.num_matched();
   if (optimize_frame_pose(frame) < 0) return false;
   for (size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& mp = frame.map_points[i];
@@ -328,7 +348,7 @@ bool Tracking::track_local_map(Frame& frame, int& inliers) {
   return inliers >= needed;
 }
 
-bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
+bool Tracking::decide_keyframe(const Frame& frame, int inliers, TrackingDiagnostics& diag) const {
   if (!reference_kf_) return true;
   const size_t n_kfs = map_->num_keyframes();
   KeyFrameDecisionInput in;
@@ -348,6 +368,10 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
     else
       ++in.untracked_close_points;
   }
+  diag.reference_points = in.reference_tracked_points;
+  diag.tracked_close = in.tracked_close_points;
+  diag.untracked_close = in.untracked_close_points;
+  diag.keyframe_conditions = keyframe_condition_bits(params_.keyframe, in);
   return need_new_keyframe(params_.keyframe, in, params_.conditions);
 }
 

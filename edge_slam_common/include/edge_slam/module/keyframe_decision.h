@@ -51,6 +51,18 @@ bool tracks_enough_points(const KeyFrameDecisionParams& p, const KeyFrameDecisio
 bool tracks_fewer_than_reference(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in);  // (4)
 bool needs_close_points(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in);  // (5)
 
+// Which of the predicates above held, as bits (per-frame logs, KeyFrame statistics).
+enum KeyFrameConditionBits : uint32_t {
+  kCondRelocalizationGap = 1u << 0,  // (1)
+  kCondGapOrMapperIdle = 1u << 1,    // (2)
+  kCondEnoughPoints = 1u << 2,       // (3)
+  kCondFewerThanReference = 1u << 3, // (4)
+  kCondNeedsClosePoints = 1u << 4,   // (5)
+  kCondWeakTracking = 1u << 5,       // (2)'s weak-tracking clause alone
+};
+uint32_t keyframe_condition_bits(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in);
+bool weak_tracking(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in);
+
 bool edge_conditions_hold(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in);    // 1 and 2
 bool mobile_conditions_hold(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in);  // 3 and (4 or 5)
 bool need_new_keyframe(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in,

@@ -56,7 +56,7 @@ class LocalMapping {
 
   bool idle() const { return idle_; }  // nothing queued and nothing being processed
   size_t queued() const { return queue_.size(); }
-  // Waits (bounded) until the queue is empty and the current keyframe done.
+  // Waits (bounded) until every KeyFrame inserted so far has been processed.
   bool wait_until_idle(double timeout_s) const;
 
   // Pause protocol for loop correction.
@@ -94,6 +94,9 @@ class LocalMapping {
   std::atomic<bool> busy_{false};
   std::atomic<bool> idle_{true};
   std::atomic<bool> abort_ba_{false};
+  // KeyFrames handed in / finished (processed, skipped or evicted from the queue): idle waits
+  // compare them, so the moment between a pop and the start of its processing is not "idle".
+  std::atomic<uint64_t> submitted_{0}, completed_{0};
 
   mutable std::mutex pause_mutex_;
   mutable std::condition_variable pause_cv_;

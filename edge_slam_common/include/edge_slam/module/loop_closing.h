@@ -76,6 +76,8 @@ class LoopClosing {
   BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
   std::thread thread_;
   std::atomic<bool> busy_{false};
+  std::atomic<uint64_t> submitted_{0}, completed_{0};  // as LocalMapping's: no idle window after a pop
+  std::atomic<bool> running_{false};                   // the thread is consuming the queue
   bool debug_;  // EDGE_SLAM_DEBUG_LOOP set: one line per keyframe on detection
 
   std::thread full_ba_thread_;

@@ -27,6 +27,10 @@ struct SlamSystemOptions {
   // loop. ORB-SLAM2 saves its trajectory without one; we offer it because the final map is what
   // the trajectory is composed from. 0 iterations = off.
   int final_full_ba_iterations = 0;
+  // Deterministic replay (edge_slam_run --pace sync): when > 0, KeyFrame condition 2 sees the
+  // mapper as busy for this many frames after each new KeyFrame instead of the thread's real
+  // state, which depends on the machine's load. 0 = the real state (real time).
+  int simulated_mapping_frames = 0;
 };
 
 class SlamSystem {
@@ -38,6 +42,11 @@ class SlamSystem {
 
   TrackingResult track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp);
   TrackingResult track_frame(Frame frame);
+
+  // Deterministic replay: waits up to timeout_s until Local-Mapping has processed every queued
+  // KeyFrame and Loop-Closing (full BA included) is quiet, the threads keep running. Called
+  // after each frame, it gives mapping all the time it needs, so a run does not depend on load.
+  bool wait_until_idle(double timeout_s) const;
 
   // Waits up to timeout_s for the mapping queue to drain, loop closing to finish (full BA
   // included), then stops the threads. False when the wait timed out (work was cut short).
@@ -59,6 +68,7 @@ class SlamSystem {
     Eigen::Isometry3d T_c_ref;
   };
   TrackingResult record(const TrackingResult& r, double stamp);
+  void simulate_mapper_state();
   std::shared_ptr<KeyFrame> keyframe_ever(uint32_t id) const;
 
   std::shared_ptr<Map> map_;
@@ -67,6 +77,8 @@ class SlamSystem {
   std::unique_ptr<LocalMapping> mapping_;
   std::unique_ptr<LoopClosing> loop_;
   bool finished_ = false;
+  int simulated_mapping_frames_ = 0;
+  int frames_since_keyframe_ = 1 << 30;
   int final_full_ba_iterations_ = 0;
 
   mutable std::mutex records_mutex_;

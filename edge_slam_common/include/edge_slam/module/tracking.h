@@ -32,6 +32,23 @@ class BowVocabulary;
 enum class TrackingState { kNotInitialized, kOk, kLost };
 const char* to_string(TrackingState s);
 
+// Why a frame was tracked the way it was: what a per-frame log needs to explain a failure
+// (which search found the pose, how many matches each stage kept, how far the pose moved
+// from the constant-velocity prediction, which KeyFrame conditions held).
+struct TrackingDiagnostics {
+  const char* path = "";          // init | motion | motion_wide | reference | relocalization | lost
+  int initial_matches = 0;        // matches of the first search (motion model / BoW)
+  int initial_inliers = 0;        // after the first pose optimisation
+  int local_map_points = 0;       // local-map points projected into the frame
+  int matches_before_final = 0;   // frame matches entering the local-map pose optimisation
+  int reference_points = 0;       // condition (4)'s comparator: the reference KeyFrame's points
+  int tracked_close = 0, untracked_close = 0;  // condition (5)'s counts
+  uint32_t keyframe_conditions = 0;  // KeyFrameConditionBits that held (see keyframe_decision.h)
+  bool has_prediction = false;    // a constant-velocity prediction existed
+  double prediction_error_m = 0;  // final camera centre vs the predicted one
+  double prediction_error_deg = 0;
+};
+
 struct TrackingResult {
   TrackingState state = TrackingState::kNotInitialized;
   bool pose_valid = false;        // T_cw is a tracked pose of this frame
@@ -44,6 +61,7 @@ struct TrackingResult {
   double time_ms = 0;             // wall time: frame construction (ORB) + tracking
   double cpu_ms = 0;              // CPU time of this thread for the same work
   std::string message;            // why tracking failed / the input was rejected
+  TrackingDiagnostics diag;
   // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
   // optimised KeyFrames, as ORB-SLAM2 saves its trajectory): the reference KeyFrame and the
   // frame's pose relative to it; for a new KeyFrame, its spanning-tree parent and pose relative to it.
@@ -100,13 +118,13 @@ class Tracking {
 
  private:
   bool initialize(Frame& frame, std::string& why);
-  bool track_with_motion_model(Frame& frame);
-  bool track_reference_keyframe(Frame& frame);
-  bool track_local_map(Frame& frame, int& inliers);
+  bool track_with_motion_model(Frame& frame, TrackingDiagnostics& diag);
+  bool track_reference_keyframe(Frame& frame, TrackingDiagnostics& diag);
+  bool track_local_map(Frame& frame, int& inliers, TrackingDiagnostics& diag);
   // Rolling-shutter compensation with the motion just tracked, then a pose refinement.
   void recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<const FrameFeatures>& measured);
-  void search_local_points(Frame& frame, const LocalMap& local);
-  bool decide_keyframe(const Frame& frame, int inliers) const;
+  int search_local_points(Frame& frame, const LocalMap& local);
+  bool decide_keyframe(const Frame& frame, int inliers, TrackingDiagnostics& diag) const;
   std::shared_ptr<KeyFrame> create_keyframe(Frame& frame, bool all_depth_points);
   void predict_last_frame_pose();
 
