@@ -74,7 +74,7 @@ kill -INT $launch_pid; wait $launch_pid 2>/dev/null || true
 launch_pid=""
 
 [[ -f "$OUT/mobile_metrics.json" && -f "$OUT/edge_metrics.json" ]] || die "the nodelets wrote no metrics: see $OUT/launch.log"
-/usr/bin/python3 scripts/split_trajectory.py "$OUT/mobile_anchors.txt" "$OUT/edge_keyframes.txt" "$OUT/trajectory.txt"
+.venv/bin/python3 scripts/split_trajectory.py "$OUT/mobile_anchors.txt" "$OUT/edge_keyframes.txt" "$OUT/trajectory.txt"
 
 # One metrics.json: the mobile's figures on top (same keys as monolithic), the edge's module
 # timings beside them, the edge's own figures under "edge", the Local-Map size over time.
