@@ -8,7 +8,9 @@
 # vocabulary trained on itself (train_vocabulary next to the runner, or
 # $EDGE_SLAM_TRAIN_VOCABULARY), cached in results/cache/.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
+cd "$ROOT"
 
 DATASET="${DATASET:-bags/synthetic_room}"
 MODE="${MODE:-monolithic}"

@@ -9,6 +9,7 @@
 #        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 ros_env
 

@@ -5,6 +5,7 @@
 # Idempotent: every step is skipped when its inputs have not changed, so a second run is quick.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 
 # ---- 1. Debian packages --------------------------------------------------------------------

@@ -78,7 +78,7 @@ def final_trajectory(anchors_path, keyframes_path):
 
 def main():
     if len(sys.argv) == 2 and sys.argv[1] in ('-h', '--help'):
-        print(__doc__)
+        print('usage: ' + __doc__.split('\n\n')[1] + '\n\n' + __doc__)
         return
     if len(sys.argv) != 4:
         sys.exit(__doc__)

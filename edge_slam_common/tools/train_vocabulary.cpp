@@ -45,12 +45,16 @@ std::vector<std::string> selected_frames(const Options& options) {
   return selected;
 }
 
+// An empty message is --help: the usage on stdout and exit status 0.
 [[noreturn]] void usage(const std::string& message) {
-  std::fprintf(stderr,
-               "error: %s\n"
+  const char* text =
                "usage: train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]\n"
-               "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n",
-               message.c_str());
+               "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n";
+  if (message.empty()) {
+    std::fputs(text, stdout);
+    std::exit(0);
+  }
+  std::fprintf(stderr, "error: %s\n%s", message.c_str(), text);
   std::exit(2);
 }
 
@@ -58,6 +62,7 @@ Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") usage("");
     if (arg.rfind("--", 0) == 0) {
       if (i + 1 >= argc) usage(arg + " needs a value");
       const char* value = argv[++i];

@@ -4,6 +4,7 @@
 # ../shared/datasets/tum_fr1_rpy when present. Builds nothing: run `make setup` first.
 set -euo pipefail
 source "$(dirname "$0")/../common.sh"
+help_on_request "$@"
 cd "$ROOT"
 ros_env
 [ -x .ws/devel/lib/edge_slam_common/edge_slam_run ] || die "runner not built: run 'make setup' first"

@@ -40,7 +40,7 @@ def fast_turn(path):
 
 if __name__ == "__main__":
     if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
-        print(__doc__)
+        print("usage: " + __doc__.split("\n\n")[1] + "\n\n" + __doc__)
         sys.exit(0)
     if len(sys.argv) != 2:
         sys.exit(__doc__)
