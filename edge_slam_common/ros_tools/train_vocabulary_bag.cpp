@@ -37,17 +37,12 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// An empty message is --help: the usage on stdout and exit status 0.
+// An empty message is --help.
 [[noreturn]] void usage(const std::string& message) {
-  const char* text =
-               "usage: train_vocabulary_bag --out vocab.bin [--topic /camera/rgb/image_color] [--k 10]\n"
-               "                            [--levels 6] [--every N] [--max-images M] [--seed S] <bags...>\n";
-  if (message.empty()) {
-    std::fputs(text, stdout);
-    std::exit(0);
-  }
-  std::fprintf(stderr, "error: %s\n%s", message.c_str(), text);
-  std::exit(2);
+  exit_with_training_usage(
+      "usage: train_vocabulary_bag --out vocab.bin [--topic /camera/rgb/image_color] [--k 10]\n"
+      "                            [--levels 6] [--every N] [--max-images M] [--seed S] <bags...>\n",
+      message);
 }
 
 Options parse_options(int argc, char** argv) {

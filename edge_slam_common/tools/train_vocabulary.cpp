@@ -45,17 +45,12 @@ std::vector<std::string> selected_frames(const Options& options) {
   return selected;
 }
 
-// An empty message is --help: the usage on stdout and exit status 0.
+// An empty message is --help.
 [[noreturn]] void usage(const std::string& message) {
-  const char* text =
-               "usage: train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]\n"
-               "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n";
-  if (message.empty()) {
-    std::fputs(text, stdout);
-    std::exit(0);
-  }
-  std::fprintf(stderr, "error: %s\n%s", message.c_str(), text);
-  std::exit(2);
+  exit_with_training_usage(
+      "usage: train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]\n"
+      "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n",
+      message);
 }
 
 Options parse_options(int argc, char** argv) {

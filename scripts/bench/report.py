@@ -55,6 +55,13 @@ def ate(groundtruth, trajectory):
             "poses": s["ate_pairs"], "ref_xyz": ref.positions_xyz, "est_xyz": est.positions_xyz}
 
 
+def save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 def plot_trajectories(path, name, results):
     """Top view on the ground truth's two widest axes, estimates aligned to it."""
     first = next((r for r in results.values() if r), None)
@@ -76,10 +83,7 @@ def plot_trajectories(path, name, results):
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=9)
     ax.set_title(f"{name}: trajectories over ground truth (SE(3)-aligned)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return save(fig, path)
 
 
 # ---------------------------------------------------------------- latency (Fig. 7)
@@ -109,10 +113,7 @@ def plot_tracking(path, name, series, t0, turn):
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=9)
     ax.set_title(f"{name}: mobile tracking latency over time (faint: every frame)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return save(fig, path)
 
 
 # ---------------------------------------------------------------- CPU and memory (Fig. 8)
@@ -136,10 +137,7 @@ def plot_cpu_memory(path, name, procs):
         a.legend(loc="best", fontsize=8)
         a.set_ylim(bottom=0)
     a_cpu.set_title(f"{name}: CPU and memory of the mobile (and edge) process, /proc at 20 Hz")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return save(fig, path)
 
 
 # ---------------------------------------------------------------- network (Fig. 9)
@@ -181,10 +179,7 @@ def plot_network(path, name, net):
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(f"{name}: split-mode traffic per topic (serialized message bytes)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return save(fig, path)
 
 
 # ---------------------------------------------------------------- relocalization (Table 3)
@@ -277,6 +272,12 @@ class Dataset:
     def run(self, variant):
         return os.path.join(self.out, "runs", self.name, variant)
 
+    def section(self, title):
+        """Starts a "### title" section of this dataset; returns the report to write it into."""
+        self.body.line(f"### {title}")
+        self.body.line()
+        return self.body
+
     def metrics(self, variant):
         return read_json(os.path.join(self.run(variant), "metrics.json")) or {}
 
@@ -298,9 +299,7 @@ def section_intro(c):
 
 
 def section_accuracy(c):
-    body = c.body
-    body.line("### 1. Accuracy (paper Table 2, Fig. 6)")
-    body.line()
+    body = c.section("1. Accuracy (paper Table 2, Fig. 6)")
     acc, rows = {}, []
     for mode in MODES:
         m = c.metrics(mode)
@@ -341,9 +340,7 @@ MODULES = [("tracking", "tracking_ms"), ("local mapping (per KeyFrame)", "local_
 
 
 def section_latency(c):
-    body = c.body
-    body.line("### 2. Module latency (paper Fig. 7)")
-    body.line()
+    body = c.section("2. Module latency (paper Fig. 7)")
     rows = []
     for mode in MODES:
         m = c.metrics(mode)
@@ -370,9 +367,7 @@ def section_latency(c):
 
 
 def section_cpu_memory(c):
-    body = c.body
-    body.line("### 3. Mobile CPU and memory (paper Fig. 8)")
-    body.line()
+    body = c.section("3. Mobile CPU and memory (paper Fig. 8)")
     procs, rows = {}, []
     for mode in MODES:
         for role, p in proc_series(c.run(mode)).items():
@@ -411,9 +406,7 @@ def section_cpu_memory(c):
 
 
 def section_pipeline(c):
-    body = c.body
-    body.line("### 4. Map-update pipeline (paper Table 4)")
-    body.line()
+    body = c.section("4. Map-update pipeline (paper Table 4)")
     pipe = {v: pipeline_stats.summarize(c.run(v)) for v in ("split", "split_controller") if v in c.ran}
     c.d["map_update_pipeline"] = pipe
     ctrl = c.ran.get("split_controller", {}).get("controller_window")
@@ -440,9 +433,7 @@ def section_pipeline(c):
 
 
 def section_network(c):
-    body = c.body
-    body.line("### 5. Network (paper Fig. 9)")
-    body.line()
+    body = c.section("5. Network (paper Fig. 9)")
     net = net_rows(c.run("split"))
     summary = network_summary(net, c.ds["seconds"])
     c.d["network"] = summary
@@ -479,9 +470,7 @@ def blank_range(ds):
 
 
 def section_relocalization(c):
-    body = c.body
-    body.line("### 6. Relocalization with blanked frames (paper Table 3)")
-    body.line()
+    body = c.section("6. Relocalization with blanked frames (paper Table 3)")
     rows = []
     for mode in MODES:
         r = relocalization(c.run(f"{mode}_blank"), blank_range(c.ds)) if f"{mode}_blank" in c.ran else None
@@ -501,9 +490,7 @@ def section_relocalization(c):
 
 
 def section_bandwidth(c):
-    body = c.body
-    body.line("### 7. Bandwidth limits (paper Table 5)")
-    body.line()
+    body = c.section("7. Bandwidth limits (paper Table 5)")
     if not c.ds.get("bandwidth"):
         body.line(f"not measured ({c.ds.get('bandwidth_skipped', 'not run')}).")
         body.line()
@@ -568,9 +555,7 @@ def robust_runs(c):
 def section_robustness(c):
     """Issue #13: N back-to-back pairs of `make eval` (monolithic, then split): the spread of the
     final ATE (both modes) and of the split's online ATE and largest jump at an update."""
-    body = c.body
-    body.line("### 8. Robustness: repeated runs (issue #13)")
-    body.line()
+    body = c.section("8. Robustness: repeated runs (issue #13)")
     pairs = robust_runs(c)
     if not pairs:
         body.line("not run (`make bench BENCH_ARGS=\"--only robustness --robust-runs 5\"`).")
