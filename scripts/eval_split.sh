@@ -63,14 +63,8 @@ while player_running; do
   sleep 2
 done
 say "bag finished; waiting for the edge's Local-Mapping and Loop-Closing to settle"
-last="" ; stable=0
-for _ in $(seq 120); do
-  now=$(rosservice call /edge_slam/edge/status 2>/dev/null | grep -E '^(inserted|global_map_keyframes|loops_closed|global_map_points):' | tr '\n' ' ')
-  if [[ -n "$now" && "$now" == "$last" ]]; then stable=$((stable + 1)); else stable=0; fi
-  last="$now"
-  [[ $stable -ge 4 ]] && break
-  sleep 1
-done
+PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m bench.ros_util edge-settled --timeout 120 \
+  || say "the edge was still changing after 120 s; writing what it has"
 kill -INT $launch_pid; wait $launch_pid 2>/dev/null || true
 launch_pid=""
 

@@ -264,7 +264,8 @@ def save_manifest(out_dir, manifest, previous):
 
 def machine_info():
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
-    mem_kb = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal"))
+    import psutil
+    mem_kb = psutil.virtual_memory().total // 1024
     git = lambda *a: subprocess.run(["git", *a], cwd=ROOT, capture_output=True, text=True).stdout.strip()
     return {"date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "nproc": os.cpu_count(), "cpu_model": cpu,
             "ram_gib": round(mem_kb / 1048576, 1), "kernel": platform.release(),

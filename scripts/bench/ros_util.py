@@ -64,3 +64,23 @@ def wait_until_steady(read_key, quiet_s, timeout, step=0.5):
             return True
         time.sleep(step)
     return False
+
+
+def main():
+    """Command line for the shell scripts (scripts/eval_split.sh)."""
+    import argparse
+    import sys
+    ap = argparse.ArgumentParser(prog="python3 -m bench.ros_util", description=__doc__)
+    ap.add_argument("command", choices=["edge-settled"],
+                    help="edge-settled: wait until the edge's status stops changing (quiet for --quiet s)")
+    ap.add_argument("--quiet", type=float, default=4.0)
+    ap.add_argument("--timeout", type=float, default=120.0)
+    a = ap.parse_args()
+    ok = wait_until_steady(lambda: edge_settled_key(rosservice_call("/edge_slam/edge/status")), a.quiet, a.timeout)
+    if not ok:
+        print(f"bench.ros_util: the edge did not settle within {a.timeout:.0f} s", file=sys.stderr)
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
