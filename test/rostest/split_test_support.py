@@ -120,16 +120,16 @@ class SplitSystem:
     def wait_for_edge_settled(self, timeout=120):
         """Local-Mapping and Loop-Closing finish what they were given: the Global-Map stops changing
         (the status offers no idle flag, so: unchanged for 4 s)."""
+        repo_root()  # scripts/ on the path: the bench package
         from bench.ros_util import edge_settled_key, wait_until_steady
-        repo_root()
         if not wait_until_steady(lambda: edge_settled_key(self.edge_status()), 4.0, timeout):
             raise AssertionError('timed out after %.0f s waiting for the edge to settle' % timeout)
 
     def wait_for_run_files(self, out, timeout=30):
         """The nodelets' files in `out` hold every published pose (but the mobile's unflushed tail)
         and the Global-Map the edge reports now."""
-        from bench.bench_data import split_files_complete
         repo_root()
+        from bench.bench_data import split_files_complete
         ids = list(self.edge_status().global_map_ids)
         self.wait_until(lambda: split_files_complete(out, [p[0] for p in self.poses], ids), timeout,
                         'the anchors and Global-Map KeyFrame files in %s to be complete' % out)
