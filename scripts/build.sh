@@ -4,6 +4,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH   # Debian's python3, never pyenv's
+case "${1:-}" in -h|--help) sed -n '2,3s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 WS="$ROOT/.ws"
 mkdir -p "$WS/src"
 declare -A PKGS=([edge_slam_msgs]=edge_slam_msgs [edge_slam_common]=edge_slam_common

@@ -19,3 +19,10 @@ ros_env() {
   source "$ROOT/.ws/devel/setup.bash"
   set -u
 }
+
+# A script's --help (or -h) as its first argument: its header comment (the usage), exit status 0.
+help_on_request() {
+  case "${1:-}" in
+    -h|--help) sed -n '2,/^[^#]/{/^#/s/^# \{0,1\}//p}' "${BASH_SOURCE[1]:-$0}"; exit 0 ;;
+  esac
+}

@@ -4,6 +4,7 @@
 # Results: results/demo/ (trajectory.txt, metrics.json, trajectory.png).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 OUT="${OUT:-results/demo}"
 DATASET="${DATASET:-bags/synthetic_room}"
@@ -32,7 +33,7 @@ PY
 # Global-Map (orange), both trajectories and the KeyFrames while the bag plays; headless, the
 # split is evaluated instead and its figures printed.
 if [[ "${HEADLESS:-0}" != "1" && -n "${DISPLAY:-}" ]]; then
-  say "Edge-SLAM split live in rviz (launch/edge_slam.launch rviz:=true; closes when the bag ends)"
+  say "Edge-SLAM split live in rviz (launch/edge_slam.launch rviz:=true; keeps the finished maps on screen after the bag: close rviz or press Ctrl-C to stop)"
   ros_env
   export ROS_MASTER_URI="http://localhost:11393"
   roscore -p 11393 > /dev/null 2>&1 &

@@ -2,13 +2,15 @@
 # Runs the SLAM system on a TUM-format folder and adds the ATE to <OUT>/metrics.json.
 # Called by `make eval DATASET=<folder> MODE=monolithic|split OUT=<dir>`; builds nothing.
 #   runner: $EDGE_SLAM_RUN, else .ws/devel/lib/edge_slam_common/edge_slam_run
-#   ATE:    .venv/bin/evo_ape (tum <gt> <traj> -a) if present, else scripts/ate.py
+#   ATE:    bench.ate (evo's API in .venv: `evo_ape tum <gt> <traj> -a`), final and online alike
 # Extra runner options can be passed in EDGE_SLAM_ARGS (e.g. "--camera config/camera_tum1.yaml").
 # Without --vocabulary in EDGE_SLAM_ARGS, a dataset other than bags/synthetic_room gets a
 # vocabulary trained on itself (train_vocabulary next to the runner, or
 # $EDGE_SLAM_TRAIN_VOCABULARY), cached in results/cache/.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
+cd "$ROOT"
 
 DATASET="${DATASET:-bags/synthetic_room}"
 MODE="${MODE:-monolithic}"
@@ -94,24 +96,11 @@ if [[ $(grep -vc '^#' "$TRAJ" || true) -lt 3 ]]; then
   exit 1
 fi
 
-if [[ -x .venv/bin/evo_ape ]]; then
-  ATE_JSON=$(.venv/bin/python3 - "$DATASET/groundtruth.txt" "$TRAJ" <<'PY'
-import json, subprocess, sys, tempfile, os, zipfile
-gt, traj = sys.argv[1], sys.argv[2]
-with tempfile.TemporaryDirectory() as d:
-    z = os.path.join(d, "ape.zip")
-    subprocess.run([os.path.join(".venv", "bin", "evo_ape"), "tum", gt, traj, "-a",
-                    "--save_results", z, "--no_warnings"], check=True, stdout=sys.stderr)
-    with zipfile.ZipFile(z) as f:
-        stats = json.loads(f.read("stats.json"))
-print(json.dumps({"ate_rmse_m": stats["rmse"], "ate_mean_m": stats["mean"],
-                  "ate_median_m": stats["median"], "ate_std_m": stats["std"],
-                  "ate_max_m": stats["max"], "ate_tool": "evo_ape tum -a"}))
-PY
-)
-else
-  ATE_JSON=$(/usr/bin/python3 scripts/ate.py "$DATASET/groundtruth.txt" "$TRAJ" --json)
-fi
+# Every ATE (final, and for split the poses as tracked) from one tool with one association
+# tolerance: bench.ate, evo's API in the venv (`evo_ape tum <gt> <traj> -a`, max_diff 0.01 s).
+[[ -x .venv/bin/python3 ]] || { echo "eval: no .venv (evo): run 'make setup' first" >&2; exit 1; }
+ate() { PYTHONPATH="$PWD/scripts${PYTHONPATH:+:$PYTHONPATH}" .venv/bin/python3 -m bench.ate "$@" --json; }
+ATE_JSON=$(ate "$DATASET/groundtruth.txt" "$TRAJ")
 
 /usr/bin/python3 - "$OUT/metrics.json" "$ATE_JSON" <<'PY'
 import json, sys
@@ -128,15 +117,23 @@ print(f"ATE RMSE {ate['ate_rmse_m'] * 100:.2f} cm ({ate['ate_tool']}), "
 PY
 
 if [[ "$MODE" == "split" && -f "$OUT/trajectory_online.txt" ]]; then
-  # The poses as the mobile tracked them (before the edge's later optimisation and loop closure).
-  /usr/bin/python3 - "$OUT/metrics.json" "$(/usr/bin/python3 scripts/ate.py "$DATASET/groundtruth.txt" "$OUT/trajectory_online.txt" --json)" <<'PY'
+  # The poses as the mobile tracked them (before the edge's later optimisation and loop closure),
+  # and their largest jump at an installed Local-Map update (mobile_stats.csv "update" rows).
+  ONLINE_JSON=$(ate "$DATASET/groundtruth.txt" "$OUT/trajectory_online.txt" --update-stamps-from "$OUT/mobile_stats.csv")
+  /usr/bin/python3 - "$OUT/metrics.json" "$ONLINE_JSON" <<'PY'
 import json, sys
 path, ate = sys.argv[1], json.loads(sys.argv[2])
 m = json.load(open(path))
 m["ate_online_rmse_m"] = ate["ate_rmse_m"]
+m["ate_online_pairs"] = ate["ate_pairs"]
+m["update_jump_max_m"] = ate["update_jump_max_m"]
+m["update_jumps"] = ate["update_jumps"]
 json.dump(m, open(path, "w"), indent=2)
 u = m.get("updates", {})
-print(f"split: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; updates accepted {u.get('accepted')}/"
-      f"{u.get('received')}; Local-Map peak {m.get('local_map_peak')} KeyFrames; edge loops closed {m.get('loops_closed')}")
+jump = ate["update_jump_max_m"]
+print(f"split: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; largest jump at an update "
+      f"{'n/a' if jump is None else '%.2f cm' % (jump * 100)} over {len(ate['update_jumps'])} updates installed; "
+      f"updates accepted {u.get('accepted')}/{u.get('received')}; Local-Map peak {m.get('local_map_peak')} KeyFrames; "
+      f"edge loops closed {m.get('loops_closed')}")
 PY
 fi

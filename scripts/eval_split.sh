@@ -9,6 +9,7 @@
 #        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 ros_env
 
@@ -62,19 +63,13 @@ while player_running; do
   sleep 2
 done
 say "bag finished; waiting for the edge's Local-Mapping and Loop-Closing to settle"
-last="" ; stable=0
-for _ in $(seq 120); do
-  now=$(rosservice call /edge_slam/edge/status 2>/dev/null | grep -E '^(inserted|global_map_keyframes|loops_closed|global_map_points):' | tr '\n' ' ')
-  if [[ -n "$now" && "$now" == "$last" ]]; then stable=$((stable + 1)); else stable=0; fi
-  last="$now"
-  [[ $stable -ge 4 ]] && break
-  sleep 1
-done
+PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m bench.ros_util edge-settled --timeout 120 \
+  || say "the edge was still changing after 120 s; writing what it has"
 kill -INT $launch_pid; wait $launch_pid 2>/dev/null || true
 launch_pid=""
 
 [[ -f "$OUT/mobile_metrics.json" && -f "$OUT/edge_metrics.json" ]] || die "the nodelets wrote no metrics: see $OUT/launch.log"
-/usr/bin/python3 scripts/split_trajectory.py "$OUT/mobile_anchors.txt" "$OUT/edge_keyframes.txt" "$OUT/trajectory.txt"
+.venv/bin/python3 scripts/split_trajectory.py "$OUT/mobile_anchors.txt" "$OUT/edge_keyframes.txt" "$OUT/trajectory.txt"
 
 # One metrics.json: the mobile's figures on top (same keys as monolithic), the edge's module
 # timings beside them, the edge's own figures under "edge", the Local-Map size over time.

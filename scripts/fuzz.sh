@@ -6,6 +6,7 @@
 #   FUZZ_SECONDS=60  FUZZ_TARGETS="fuzz_keyframe_message ..."  (default: all)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 command -v clang++ >/dev/null || die "clang++ not found: run 'make setup' (installs clang, libclang-rt-14-dev)"
 BUILD="$ROOT/build_fuzz"

@@ -4,6 +4,7 @@
 # the same generator/trainer sources. Usage: scripts/make_dataset.sh [--force]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 ros_env
 BIN="$ROOT/.ws/devel/lib/edge_slam_common"

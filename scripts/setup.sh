@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # One-command setup on Debian 12: installs the Debian packages (ROS 1 from Debian, Ceres,
-# OpenCV, Eigen, Xvfb...), a Python venv with evo + matplotlib, builds the catkin workspace in
+# OpenCV, Eigen, Xvfb...), a Python venv with evo + matplotlib that also sees Debian's ROS Python, builds the catkin workspace in
 # Release, then generates the embedded synthetic dataset and its vocabulary.
 # Idempotent: every step is skipped when its inputs have not changed, so a second run is quick.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 
 # ---- 1. Debian packages --------------------------------------------------------------------
@@ -28,12 +29,17 @@ else
 fi
 
 # ---- 2. Python venv for PyPI tools (evo, matplotlib) --------------------------------------
-venv_stamp="$STAMPS/venv.$(inputs_hash scripts/requirements-venv.txt)"
+# --system-site-packages: the venv python also sees Debian's rospy, rostest, rosbag and the
+# workspace's messages, so rospy tests and tools run in it with evo's API (scripts/bench/ate.py).
+# Debian modules compiled against Debian's numpy (cv2) stay on /usr/bin/python3.
+VENV_FLAGS="--system-site-packages"
+venv_stamp="$STAMPS/venv.$( (cat scripts/requirements-venv.txt; echo "$VENV_FLAGS") | sha256sum | cut -c1-16)"
 if [ ! -f "$venv_stamp" ] || [ ! -x .venv/bin/evo_ape ]; then
-  say "creating .venv with $(tr '\n' ' ' < scripts/requirements-venv.txt)"
-  /usr/bin/python3 -m venv .venv
+  say "creating .venv ($VENV_FLAGS) with $(tr '\n' ' ' < scripts/requirements-venv.txt)"
+  /usr/bin/python3 -m venv --clear $VENV_FLAGS .venv
   .venv/bin/pip install -q --upgrade pip
   .venv/bin/pip install -q -r scripts/requirements-venv.txt || die "pip install into .venv failed"
+  .venv/bin/python3 -c "import evo, scipy, psutil, rospy, rosbag" || die ".venv cannot import evo, scipy, psutil and rospy together"
   rm -f "$STAMPS"/venv.*; touch "$venv_stamp"
 else
   say "Python venv: up to date"

@@ -1,8 +1,8 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Final trajectory of a split run, made the way ORB-SLAM2 saves its own: every frame the mobile
 tracked, re-anchored on the edge's final (optimised, loop-corrected) KeyFrame poses.
 
-split_trajectory.py <mobile_anchors.txt> <edge_keyframes.txt> <out trajectory.txt>
+split_trajectory.py <mobile_anchors.txt> <edge_keyframes.txt> <out trajectory.txt>   (venv python: scipy)
 
 mobile_anchors.txt (written by the mobile nodelet):
   F <stamp> <reference KF id> <T_ref_c>      a tracked frame relative to its reference KeyFrame
@@ -11,52 +11,44 @@ edge_keyframes.txt: <KF id> <stamp> <T_wc> for each Global-Map KeyFrame.
 A reference KeyFrame the Global-Map does not hold (culled, or refused by conditions 1-2) is
 reached through its parents, as ORB-SLAM2 does for culled KeyFrames. Poses: tx ty tz qx qy qz qw.
 """
+import os
 import sys
 
 import numpy as np
+from scipy.spatial.transform import Rotation
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'edge_slam_common', 'python'))
+from edge_slam_common.tum import InputError, read_records  # noqa: E402
 
 
 def pose(v):
-    t = np.array(v[0:3], float)
-    x, y, z, w = (float(a) for a in v[3:7])
-    n = np.sqrt(x * x + y * y + z * z + w * w)
-    x, y, z, w = x / n, y / n, z / n, w / n
-    R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    """4x4 T from 'tx ty tz qx qy qz qw' words."""
     T = np.eye(4)
-    T[:3, :3], T[:3, 3] = R, t
+    T[:3, :3] = Rotation.from_quat([float(a) for a in v[3:7]]).as_matrix()  # normalises
+    T[:3, 3] = np.array(v[0:3], float)
     return T
 
 
 def quaternion(R):
-    w = np.sqrt(max(0.0, 1 + R[0, 0] + R[1, 1] + R[2, 2])) / 2
-    x = np.copysign(np.sqrt(max(0.0, 1 + R[0, 0] - R[1, 1] - R[2, 2])) / 2, R[2, 1] - R[1, 2])
-    y = np.copysign(np.sqrt(max(0.0, 1 - R[0, 0] + R[1, 1] - R[2, 2])) / 2, R[0, 2] - R[2, 0])
-    z = np.copysign(np.sqrt(max(0.0, 1 - R[0, 0] - R[1, 1] + R[2, 2])) / 2, R[1, 0] - R[0, 1])
-    return x, y, z, w
+    """x, y, z, w of a rotation matrix."""
+    return tuple(Rotation.from_matrix(R).as_quat())
 
 
-def read_lines(path):
+def read_lines(path, tag_lengths):
     try:
-        with open(path) as f:
-            return [(n, line.split()) for n, line in enumerate(f, 1) if line.strip() and not line.startswith('#')]
-    except OSError as e:
-        sys.exit('split_trajectory.py: cannot read %s: %s' % (path, e.strerror))
+        return read_records(path, tag_lengths)
+    except InputError as e:
+        sys.exit('split_trajectory.py: %s' % e)
 
 
 def final_trajectory(anchors_path, keyframes_path):
     """[(stamp, 4x4 T_wc)] for every anchored frame whose KeyFrame chain reaches the Global-Map."""
     world = {}
-    for n, v in read_lines(keyframes_path):
-        if len(v) != 9:
-            sys.exit('%s:%d: expected id stamp tx ty tz qx qy qz qw' % (keyframes_path, n))
+    for n, v in read_lines(keyframes_path, {None: 9}):  # id stamp tx ty tz qx qy qz qw
         world[int(v[0])] = pose(v[2:9])
     parent = {}
     frames = []
-    for n, v in read_lines(anchors_path):
-        if len(v) != 10 or v[0] not in ('F', 'K'):
-            sys.exit('%s:%d: expected F|K and 9 values' % (anchors_path, n))
+    for n, v in read_lines(anchors_path, {'F': 10, 'K': 10}):
         if v[0] == 'K':
             parent[int(v[1])] = (int(v[2]), pose(v[3:10]))
         else:
@@ -85,6 +77,9 @@ def final_trajectory(anchors_path, keyframes_path):
 
 
 def main():
+    if len(sys.argv) == 2 and sys.argv[1] in ('-h', '--help'):
+        print('usage: ' + __doc__.split('\n\n')[1] + '\n\n' + __doc__)
+        return
     if len(sys.argv) != 4:
         sys.exit(__doc__)
     poses, missing, total = final_trajectory(sys.argv[1], sys.argv[2])

@@ -4,6 +4,7 @@
 # line "N passed, N failed". Exit status is non-zero on any failure.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 bash scripts/setup.sh
 ros_env

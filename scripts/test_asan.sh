@@ -7,6 +7,7 @@
 #   ASAN_FRAMES=200 (frames of the integration run), BUILD_ONLY=1 (build, run nothing)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 WS="$ROOT/build_asan/ws"
 LOGS="$ROOT/build_asan/logs"

@@ -9,6 +9,7 @@
 # results/tsan/tsan.log. BUILD_JOBS (default 2) sets the build parallelism.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+help_on_request "$@"
 cd "$ROOT"
 
 DATASET=bags/synthetic_room

@@ -37,19 +37,19 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// An empty message is --help.
 [[noreturn]] void usage(const std::string& message) {
-  std::fprintf(stderr,
-               "error: %s\n"
-               "usage: train_vocabulary_bag --out vocab.bin [--topic /camera/rgb/image_color] [--k 10]\n"
-               "                            [--levels 6] [--every N] [--max-images M] [--seed S] <bags...>\n",
-               message.c_str());
-  std::exit(2);
+  exit_with_training_usage(
+      "usage: train_vocabulary_bag --out vocab.bin [--topic /camera/rgb/image_color] [--k 10]\n"
+      "                            [--levels 6] [--every N] [--max-images M] [--seed S] <bags...>\n",
+      message);
 }
 
 Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") usage("");
     if (arg.rfind("--", 0) != 0) {
       o.bags.push_back(arg);
       continue;

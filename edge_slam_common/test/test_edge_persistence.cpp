@@ -111,16 +111,27 @@ TEST(EdgePersistence, RestartedEdgeContinuesTheSameMap) {
 
 TEST(EdgePersistence, SavingWhileMappingRunsGivesALoadableFile) {
   const Mobile mobile;
-  const std::string path = temp_path("busy.esmap");
+  const std::string busy_path = temp_path("busy.esmap"), path = temp_path("saving.esmap");
   EdgeSession edge(mobile.source.camera, 8, 1.2f, mobile.vocabulary, mobile.params());
-  std::thread saver([&] {
-    for (int i = 0; i < 20; ++i) edge.save_map(path);
-  });
-  for (const KeyFrameRecord& r : mobile.sent) edge.receive_keyframe(r);  // mapping works meanwhile
-  saver.join();
-  ASSERT_TRUE(edge.wait_until_idle(60.0));
+  // Each KeyFrame is handed to Local-Mapping and the map saved at once, again and again while
+  // the mapping thread works on it (queued or running: not idle). Those saves start while mapping
+  // runs (the snapshot is taken under the locks mapping takes); the last such file must load.
+  int overlapped = 0;
+  for (const KeyFrameRecord& r : mobile.sent) {
+    std::string error;
+    ASSERT_EQ(edge.receive_keyframe(r, &error), KeyFrameVerdict::kInserted) << error;
+    while (!edge.mapping_idle()) {
+      edge.save_map(path);
+      std::rename(path.c_str(), busy_path.c_str());
+      ++overlapped;
+    }
+    ASSERT_TRUE(edge.wait_until_idle(60.0));
+  }
+  ASSERT_GT(overlapped, 0) << "no save started while Local-Mapping was busy";
   EdgeSession restarted(mobile.source.camera, 8, 1.2f, mobile.vocabulary, mobile.params());
-  EXPECT_NO_THROW(restarted.load_map(path));
+  EXPECT_NO_THROW(restarted.load_map(busy_path)) << "a file saved while mapping ran";
+  EXPECT_GT(restarted.global_map()->num_keyframes(), 0u);
+  std::remove(busy_path.c_str());
   std::remove(path.c_str());
 }
 

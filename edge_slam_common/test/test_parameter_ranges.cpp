@@ -1,5 +1,7 @@
 // Every parameter the loaders read is refused at start when out of range (or not a number),
-// with an error naming the key and the valid range; a value at the edge of the range loads.
+// with an error naming the key and the valid range (so a nodelet refuses to start with a message
+// saying what to fix); a value at the edge of the range loads. A key may have several rows:
+// one per kind of bad value (below, above, not a number).
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -45,8 +47,11 @@ void check(const std::vector<Case>& cases, const Loader& load, const std::string
 
 TEST(ParameterRanges, Tracking) {
   check({{"orb/num_features", "49", "50", "[50, 100000]"},
+         {"orb/num_features", "0", "100000", "[50, 100000]"},
+         {"orb/num_features", "-5", "50", "[50, 100000]"},
          {"orb/scale_factor", "1.0", "4", "[1.01, 4]"},
          {"orb/num_levels", "33", "1", "[1, 32]"},
+         {"orb/num_levels", "0", "32", "[1, 32]"},
          {"orb/ini_fast_threshold", "0", "255", "[1, 255]"},
          {"orb/min_fast_threshold", "256", "1", "[1, 255]"},
          {"tracking/min_frames_after_relocalization", "-1", "0", "[0, 100000]"},
@@ -70,10 +75,18 @@ TEST(ParameterRanges, Tracking) {
 
 TEST(ParameterRanges, MobileAndEdgeSessions) {
   check({{"edge_slam/initial_time_constraint", "61", "60", "[0, 60]"},
+         {"edge_slam/initial_time_constraint", "-0.1", "0", "[0, 60]"},
          {"edge_slam/update_size", "0", "1000", "[1, 1000]"},
-         {"edge_slam/relocalization_frame_period", "-0.1", "0", "[0, 60]"}},
+         {"edge_slam/local_map_cap", "0", "6", "[6, 100000]"},  // the lower bound is update_size (6)
+         {"edge_slam/local_map_cap", "5", "40", "[6, 100000]"},
+         {"edge_slam/relocalization_frame_period", "-0.1", "0", "[0, 60]"},
+         {"edge_slam/relocalization_frame_period", "-2", "60", "[0, 60]"}},
         [](const ConfigMap& c) { load_mobile_session_params(c); });
   check({{"edge_slam/update_size", "1001", "1", "[1, 1000]"},
+         {"edge_slam/update_size", "0", "1000", "[1, 1000]"},
+         {"edge_slam/update_period", "-1", "0.05", "[0.05, 3600]"},
+         {"edge_slam/update_period", "nan", "2.5", "[0.05, 3600]"},
+         {"edge_slam/local_map_cap", "0", "6", "[6, 100000]"},
          {"tracking/min_frames_after_relocalization", "inf", "100000", "[0, 100000]"},
          {"tracking/max_frames_between_keyframes", "0", "1", "[1, 100000]"}},
         [](const ConfigMap& c) { load_edge_session_params(c); });

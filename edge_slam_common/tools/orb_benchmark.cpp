@@ -103,9 +103,10 @@ double time_ms(F&& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
+  const bool help = argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h");
+  if (argc < 2 || help) {
     std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N] [--cv-threads N]\n";
-    return 2;
+    return help ? 0 : 2;
   }
   size_t max_frames = 0;  // 0 = all
   for (int i = 2; i < argc; ++i) {

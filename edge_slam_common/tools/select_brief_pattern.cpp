@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
+      if (arg == "-h" || arg == "--help") return usage(), 0;
       if (i + 1 >= argc) return usage();
       const std::string value = argv[++i];
       command_line += " " + arg + " " + value;

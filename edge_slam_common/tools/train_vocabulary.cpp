@@ -45,19 +45,19 @@ std::vector<std::string> selected_frames(const Options& options) {
   return selected;
 }
 
+// An empty message is --help.
 [[noreturn]] void usage(const std::string& message) {
-  std::fprintf(stderr,
-               "error: %s\n"
-               "usage: train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]\n"
-               "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n",
-               message.c_str());
-  std::exit(2);
+  exit_with_training_usage(
+      "usage: train_vocabulary --out vocab.bin [--k 10] [--levels 6] [--every N] [--max-images M]\n"
+      "                        [--seed S] <image folder | TUM folder with rgb.txt>...\n",
+      message);
 }
 
 Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") usage("");
     if (arg.rfind("--", 0) == 0) {
       if (i + 1 >= argc) usage(arg + " needs a value");
       const char* value = argv[++i];

@@ -123,11 +123,12 @@ void benchmark_frames(const BowVocabulary& vocabulary, const std::string& input,
   std::printf("best-scoring other frame within +-2 frames: %zu of %zu\n", best_is_neighbour, n);
 }
 
+// nullptr = --help: the usage on stdout, exit status 0.
 int usage(const char* message) {
-  std::fprintf(stderr,
-               "error: %s\nusage: vocabulary_benchmark [--k 10] [--levels 6] [--out FILE] [--text]\n"
-               "       vocabulary_benchmark --vocab FILE [--frames FOLDER [--every N]]\n",
-               message);
+  const char* text = "usage: vocabulary_benchmark [--k 10] [--levels 6] [--out FILE] [--text]\n"
+                     "       vocabulary_benchmark --vocab FILE [--frames FOLDER [--every N]]\n";
+  if (!message) return std::fputs(text, stdout), 0;
+  std::fprintf(stderr, "error: %s\n%s", message, text);
   return 2;
 }
 
@@ -142,6 +143,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
+    if (arg == "-h" || arg == "--help") return usage(nullptr);
     if (arg == "--k" && has_value) k = std::atoi(argv[++i]);
     else if (arg == "--levels" && has_value) levels = std::atoi(argv[++i]);
     else if (arg == "--out" && has_value) out = argv[++i];

@@ -7,12 +7,15 @@ Runs, on each dataset and in one go so that ratios compare like with like:
   split_controller split with the map-update controller disabling updates around the
                    sequence's fastest turn (found in its ground truth; planner_example)
   *_blank          both modes on a copy with 1 s of black colour frames (relocalization)
+  robustness       N pairs (--robust-runs, default 5) of monolithic then split, back to back:
+                   the spread of the final and online ATE (issue #13)
 and once the wire micro-benchmark (wire_benchmark: KeyFrame / update size, (de)serialization,
 Local-Map rebuild). Each run gets a /proc CPU+RSS sampler (20 Hz) on the mobile and edge
 processes and, in split mode, a topic-size recorder. Then report.py (venv: evo, matplotlib)
 turns OUT/runs/ into OUT/report.md, OUT/bench.json and PNGs.
 
-bench.py --out <dir> [--dataset D ...] [--only monolithic,split,...] [--report-only]
+python3 -m bench.bench --out <dir> [--dataset D ...] [--only monolithic,split,...] [--report-only]
+(from scripts/, or scripts/bench/bench.sh: `make bench`)
 Every run's console output goes to OUT/runs/<dataset>/<variant>/log.txt; the terminal shows
 one progress line (phase k/N, what runs, seconds elapsed / expected).
 """
@@ -26,13 +29,19 @@ import subprocess
 import sys
 import time
 
+from edge_slam_common.tum import list_seconds
+
+from .fast_turn import fast_turn
+from .ros_util import wait_for_service
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, HERE)
-from fast_turn import fast_turn  # noqa: E402
+SCRIPTS = os.path.dirname(HERE)
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
-VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth", "long"]
+VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "robustness", "bandwidth",
+            "long"]
+ROBUST_RUNS = 5
 # The long run: the embedded sequence's closed path driven 20 times at 15 fps (10 minutes),
 # made by loop_sequence.py in OUT/data (text files and symlinks, no rendering); the split plays
 # it live from the folder (tum_player), since a 10-minute bag of raw images would be ~14 GB.
@@ -81,8 +90,13 @@ def free_port():
 
 
 def sequence_seconds(folder):
-    stamps = [float(l.split()[0]) for l in open(os.path.join(folder, "rgb.txt")) if l.strip() and l[0] != "#"]
+    stamps = list_seconds(os.path.join(folder, "rgb.txt"))
     return stamps[-1] - stamps[0]
+
+
+def robust_variants(runs):
+    """The robustness runs in the order they run: each monolithic run right before its split."""
+    return [f"robust_{mode}_{k}" for k in range(1, runs + 1) for mode in ("monolithic", "split")]
 
 
 def default_datasets():
@@ -113,22 +127,6 @@ def resolve_dataset(path):
     return path
 
 
-def wait_for_service(name, proc, timeout):
-    """True once `name` is registered with the master (and `proc` still runs)."""
-    import xmlrpc.client
-    master = xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"])
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and proc.poll() is None:
-        try:
-            code, _, _ = master.lookupService("/bench", name)
-            if code == 1:
-                return True
-        except OSError:
-            pass
-        time.sleep(0.2)
-    return False
-
-
 def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s):
     mode = "split" if "split" in variant else "monolithic"
     run_dir = os.path.join(out_dir, "runs", os.path.basename(dataset), variant)
@@ -147,16 +145,16 @@ def run_variant(progress, out_dir, dataset, variant, blank_dir, turn, expected_s
                             start_new_session=True)
     RUNNING[:] = [proc]
     helpers = [subprocess.Popen(
-        [sys.executable, os.path.join(HERE, "proc_sampler.py"), "--root-pid", str(proc.pid),
+        [sys.executable, "-m", "bench.proc_sampler", "--root-pid", str(proc.pid),
          "--out", os.path.join(run_dir, "proc.csv"), "--hz", "20"]
         + [a for r in SAMPLER_ROLES[mode] for a in ("--role", r)], stdout=log, stderr=subprocess.STDOUT)]
     if mode == "split":
-        helpers.append(subprocess.Popen([sys.executable, os.path.join(HERE, "net_recorder.py"),
+        helpers.append(subprocess.Popen([sys.executable, "-m", "bench.net_recorder",
                                          "--out", os.path.join(run_dir, "net.csv")],
                                         stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
     RUNNING.extend(helpers)
     if variant == "split_controller":
-        if wait_for_service(MOBILE_NS + "/set_map_updates", proc, 120):
+        if wait_for_service(MOBILE_NS + "/set_map_updates", 120, lambda: proc.poll() is None):
             windows = f"[[{turn[0]:.3f},{turn[1]:.3f}]]"
             helpers.append(subprocess.Popen(
                 ["rosrun", "edge_slam_mobile", "planner_example", f"_turn_windows:={windows}",
@@ -204,7 +202,7 @@ def run_bandwidth_levels(progress, out_dir, dataset, bag):
         progress.start(f"{os.path.basename(dataset)} bandwidth {level} (up {up} / down {down} Mbit/s):")
         t0 = time.time()
         with open(os.path.join(run_dir, "runner.txt"), "w") as log:
-            proc = subprocess.Popen([sys.executable, os.path.join(HERE, "netns_run.py"), "--bag", bag,
+            proc = subprocess.Popen([sys.executable, "-m", "bench.netns_run", "--bag", bag,
                                      "--up", str(up), "--down", str(down), "--out", run_dir],
                                     cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
             expected = sequence_seconds(dataset) + 25
@@ -266,7 +264,8 @@ def save_manifest(out_dir, manifest, previous):
 
 def machine_info():
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
-    mem_kb = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal"))
+    import psutil
+    mem_kb = psutil.virtual_memory().total // 1024
     git = lambda *a: subprocess.run(["git", *a], cwd=ROOT, capture_output=True, text=True).stdout.strip()
     return {"date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "nproc": os.cpu_count(), "cpu_model": cpu,
             "ram_gib": round(mem_kb / 1048576, 1), "kernel": platform.release(),
@@ -306,13 +305,18 @@ def run():
                     help=f"laps of the embedded path in the long run (default {LONG_LAPS}: 10 minutes)")
     ap.add_argument("--long-modes", default="monolithic,split",
                     help="modes of the long run")
+    ap.add_argument("--robust-runs", type=int, default=ROBUST_RUNS,
+                    help=f"pairs (monolithic then split) of the robustness section (default {ROBUST_RUNS})")
     ap.add_argument("--add", action="store_true",
                     help="keep what OUT already holds and add these runs (e.g. --only long after a full bench)")
     args = ap.parse_args()
     out_dir = os.path.abspath(args.out)
     os.makedirs(out_dir, exist_ok=True)
+    # The tools run as modules of this package (python3 -m bench.<tool>): scripts/ on the path.
+    os.environ["PYTHONPATH"] = os.pathsep.join([SCRIPTS] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
+                                                            if p])
     venv_python = os.path.join(ROOT, ".venv/bin/python")
-    report = [venv_python, os.path.join(HERE, "report.py"), "--out", out_dir]
+    report = [venv_python, "-m", "bench.report", "--out", out_dir]
     if args.report_only:
         sys.exit(subprocess.call(report))
 
@@ -331,7 +335,10 @@ def run():
     manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}
     previous = read_manifest(out_dir) if args.add else None
     with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
-    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long")])
+    if args.robust_runs < 1:
+        sys.exit("bench: --robust-runs must be >= 1")
+    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long", "robustness")])
+                                         + (2 * args.robust_runs if "robustness" in variants else 0)
                                          + (1 if any("blank" in v for v in variants) else 0))
                         + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
                         + (1 + len(args.long_modes.split(",")) if "long" in variants else 0)
@@ -341,20 +348,32 @@ def run():
         name = os.path.basename(dataset)
         seconds = sequence_seconds(dataset)
         turn = fast_turn(os.path.join(dataset, "groundtruth.txt"))
-        first = float(next(l for l in open(os.path.join(dataset, "rgb.txt")) if l.strip() and l[0] != "#").split()[0])
+        first = list_seconds(os.path.join(dataset, "rgb.txt"))[0]
         entry = {"path": dataset, "name": name, "seconds": seconds, "fast_turn": turn[:2],
                  "fast_turn_from_start": [turn[0] - first, turn[1] - first],
                  "fast_turn_peak_deg_s": turn[2], "runs": []}
         blank_dir = os.path.join(out_dir, "data", name + "_blank")
         if any(v.endswith("_blank") for v in variants):
             progress.start(f"{name}: blank-frame copy")
-            made = subprocess.run([sys.executable, os.path.join(HERE, "blank_frames.py"), dataset, blank_dir],
+            made = subprocess.run([sys.executable, os.path.join(SCRIPTS, "blank_frames.py"), dataset, blank_dir,
+                                   "--start-fraction", "0.4", "--seconds", "1.0", "--force", "--json"],
                                   capture_output=True, text=True)
-            entry["blank"] = made.stdout.strip() or made.stderr.strip()
+            if made.returncode == 0:
+                blank = json.loads(made.stdout)
+                entry["blank_range"] = blank["stamps"]
+                entry["blank"] = f"{blank['count']} blank frames {blank['stamps'][0]:.3f}-{blank['stamps'][1]:.3f}"
+            else:
+                entry["blank"] = made.stderr.strip()
             progress.done(entry["blank"])
         for variant in variants:
             if variant == "long":
                 continue  # once, after the datasets
+            if variant == "robustness":
+                entry["robust_runs"] = args.robust_runs
+                for name in robust_variants(args.robust_runs):
+                    extra = 45 if "split" in name else 25
+                    entry["runs"].append(run_variant(progress, out_dir, dataset, name, blank_dir, turn, seconds + extra))
+                continue
             if variant == "bandwidth":
                 bag = dataset.rstrip("/") + ".bag"
                 if os.geteuid() != 0 or not os.path.isfile(bag):
@@ -369,7 +388,7 @@ def run():
     long_dir = os.path.join(out_dir, "data", os.path.basename(LONG_SOURCE) + "_long")
     if "long" in variants:
         progress.start("long sequence:")
-        made = subprocess.run([sys.executable, os.path.join(HERE, "loop_sequence.py"), os.path.join(ROOT, LONG_SOURCE),
+        made = subprocess.run([sys.executable, "-m", "bench.loop_sequence", os.path.join(ROOT, LONG_SOURCE),
                                long_dir, "--laps", str(args.long_laps), "--every", str(LONG_EVERY)],
                               capture_output=True, text=True)
         progress.done(made.stdout.strip() or made.stderr.strip())

@@ -1,4 +1,5 @@
-"""Readers for what one benchmark run leaves in OUT/runs/<dataset>/<variant>/ (venv python).
+"""Readers for what one benchmark run leaves in OUT/runs/<dataset>/<variant>/ (the bottom layer of
+the bench package: imports nothing of it).
 
 Every reader returns None (or an empty result) when its file is missing, so the report can say
 "not measured" for that part instead of failing: a run that crashed still yields the rest.
@@ -70,16 +71,6 @@ def net_rows(run_dir):
     return {"t": column(rows, "t"), "topic": np.array([r["topic"] for r in rows]), "bytes": column(rows, "bytes")}
 
 
-def frame_times(run_dir):
-    """Per-frame tracking latency (stamps, ms): frame_times.csv of the monolithic runner, or the
-    mobile's "frame" events in a split run's mobile_stats.csv."""
-    rows = read_csv(os.path.join(run_dir, "frame_times.csv"))
-    if rows:
-        return column(rows, "stamp"), column(rows, "tracking_ms")
-    import pipeline_stats  # here: pipeline_stats imports this module
-    return pipeline_stats.tracking_series(run_dir)
-
-
 def stats(values):
     v = np.asarray(values, dtype=float)
     v = v[np.isfinite(v)]
@@ -87,3 +78,27 @@ def stats(values):
         return None
     return {"count": int(len(v)), "mean": float(v.mean()), "median": float(np.median(v)),
             "p95": float(np.percentile(v, 95)), "max": float(v.max())}
+
+
+# The mobile flushes mobile_anchors.txt every 30 lines (one F line per published pose, plus a K
+# line per KeyFrame), so while it runs up to 29 lines may still be in its buffer (30 lines are
+# well below the stream's buffer: what reached the file ends with a whole line).
+ANCHOR_LINES_UNFLUSHED = 29
+
+
+def split_files_complete(out, pose_stamps, global_map_ids):
+    """True once a split run's files hold what the nodelets can have written by now: an F anchor
+    for every pose the mobile published (data stamps, s, in order) except the unflushed tail,
+    and, in edge_keyframes.txt (rewritten atomically every second), exactly the Global-Map
+    KeyFrame ids the edge reports."""
+    from edge_slam_common.tum import InputError, read_records
+    try:
+        anchors = read_records(os.path.join(out, "mobile_anchors.txt"), {"F": 10, "K": 10})
+        keyframes = read_records(os.path.join(out, "edge_keyframes.txt"), {None: 9})
+    except InputError:  # not written yet
+        return False
+    frames = [float(w[1]) for _, w in anchors if w[0] == "F"]
+    if not pose_stamps or not frames:
+        return False
+    must_have = sorted(pose_stamps)[max(0, len(pose_stamps) - 1 - ANCHOR_LINES_UNFLUSHED)]
+    return max(frames) >= must_have - 1e-6 and {int(w[0]) for _, w in keyframes} == set(global_map_ids)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Where a sequence turns fastest, from its ground truth (for the map-update controller run).
 
-fast_turn.py <groundtruth.txt>  ->  prints "start end peak_deg_per_s" (dataset stamps, seconds)
+python3 -m bench.fast_turn <groundtruth.txt>  ->  prints "start end peak_deg_per_s" (dataset stamps, seconds)
 
 The angular speed between ground-truth poses is smoothed over ~0.2 s; the window is the
 contiguous stretch around the peak where it stays above half the peak. On the synthetic
@@ -10,17 +10,17 @@ sequence this finds the 90-degree look-away turn (t = 14.8-15.2 s after the star
 import sys
 
 import numpy as np
+from edge_slam_common.tum import read_poses, stamp_seconds
 
 
 def read_groundtruth(path):
-    rows = [line.split() for line in open(path) if line.strip() and not line.startswith("#")]
-    data = np.array([[float(v) for v in r[:8]] for r in rows])
-    return data[:, 0], data[:, 4:8]  # stamps, quaternions x y z w
+    """Stamps (s) and unit quaternions x y z w."""
+    poses = read_poses(path)
+    return np.array([stamp_seconds(s) for s, _, _ in poses]), np.array([v[3:7] for _, v, _ in poses])
 
 
 def fast_turn(path):
     t, q = read_groundtruth(path)
-    q = q / np.linalg.norm(q, axis=1, keepdims=True)
     dot = np.abs(np.sum(q[1:] * q[:-1], axis=1)).clip(0.0, 1.0)
     dt = np.diff(t)
     ok = dt > 1e-6
@@ -39,6 +39,9 @@ def fast_turn(path):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print("usage: " + __doc__.split("\n\n")[1] + "\n\n" + __doc__)
+        sys.exit(0)
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     start, end, peak = fast_turn(sys.argv[1])

@@ -2,7 +2,7 @@
 """The long run's sequence, made in a second from the embedded one: its closed path driven
 LAPS times in a row.
 
-loop_sequence.py <TUM folder with a closed path> <out folder> [--laps 20] [--every 2]
+python3 -m bench.loop_sequence <TUM folder with a closed path> <out folder> [--laps 20] [--every 2]
 
 The synthetic room's camera path ends exactly at its start pose (its last frame repeats the
 first), so lap k is frames 0 .. n-2 with every stamp advanced by k x the path's duration: one
@@ -16,10 +16,11 @@ import os
 import shutil
 import sys
 
+from edge_slam_common.tum import InputError, data_lines
+
 
 def rows(path):
-    with open(path) as f:
-        return [line.split() for line in f if line.strip() and not line.startswith('#')]
+    return [words for _, _, words in data_lines(path)]
 
 
 def write(path, header, lines):
@@ -41,8 +42,8 @@ def main():
     src = os.path.abspath(a.source)
     try:
         rgb, depth, gt = (rows(os.path.join(src, n)) for n in ('rgb.txt', 'depth.txt', 'groundtruth.txt'))
-    except OSError as e:
-        sys.exit(f'loop_sequence.py: {e.filename}: {e.strerror}')
+    except InputError as e:
+        sys.exit(f'loop_sequence.py: {e}')
     if not (len(rgb) == len(depth) == len(gt)) or len(rgb) < 3:
         sys.exit(f'loop_sequence.py: {src}: expected one colour, depth and pose line per frame '
                  f'(got {len(rgb)}, {len(depth)}, {len(gt)})')

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Bytes on the split's topics over time (benchmark suite, network section).
 
-net_recorder.py --out net.csv [--ns /edge_slam] [--topics keyframes frames map_updates]
+python3 -m bench.net_recorder --out net.csv [--ns /edge_slam] [--topics keyframes frames map_updates]
 
 Subscribes to each topic with rospy.AnyMsg, so nothing is deserialised: the size logged is the
 serialized message as it crossed the wire (without the 4-byte TCPROS length prefix). Waits for
@@ -9,14 +9,11 @@ the ROS master to appear, so it can be started before roslaunch; stops on SIGINT
 Rows: wall time, topic, bytes.
 """
 import argparse
-import os
-import sys
 import time
 
 import rospy
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from recorder_node import run_recorder  # noqa: E402
+from .recorder_node import run_recorder
 
 
 def main():

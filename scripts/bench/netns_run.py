@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """One split run over a shaped link (paper Table 5): mobile and edge in two network namespaces.
 
-netns_run.py --bag <bag> --up <Mbit/s> --down <Mbit/s> [--delay-ms 5] --out <dir>  (root)
+python3 -m bench.netns_run --bag <bag> --up <Mbit/s> --down <Mbit/s> [--delay-ms 5] --out <dir>  (root)
 
 Two namespaces joined by a veth pair (mobile 10.77.0.1, edge 10.77.0.2). Each end's egress is
 shaped with tc: a token bucket (tbf) at the upload rate on the mobile side and the download
@@ -20,73 +20,28 @@ import subprocess
 import sys
 import time
 
+from .netns import NamespacePair
+from .ros_util import edge_settled_key, wait_until_steady
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 MOBILE_IP, EDGE_IP, PORT = "10.77.0.1", "10.77.0.2", 11311
 
 
-def sh(*cmd):
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+def wait_until(condition, timeout, step=0.5):
+    """condition()'s first true value within `timeout` s, else None."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = condition()
+        if value:
+            return value
+        time.sleep(step)
+    return None
 
 
-class Namespaces:
-    def __init__(self, tag):
-        self.mobile, self.edge = f"esb_m{tag}", f"esb_e{tag}"
-        self.veth_m, self.veth_e = f"esbm{tag}", f"esbe{tag}"  # interface names: <= 15 chars
-
-    def create(self, up, down, delay_ms):
-        """Returns whether the delay could be added (netem is missing from some kernels)."""
-        delay_ok = True
-        for ns in (self.mobile, self.edge):
-            sh("ip", "netns", "add", ns)
-        sh("ip", "link", "add", self.veth_m, "type", "veth", "peer", "name", self.veth_e)
-        for ns, dev, ip, rate in ((self.mobile, self.veth_m, MOBILE_IP, up), (self.edge, self.veth_e, EDGE_IP, down)):
-            sh("ip", "link", "set", dev, "netns", ns)
-            sh("ip", "-n", ns, "addr", "add", f"{ip}/24", "dev", dev)
-            sh("ip", "-n", ns, "link", "set", "lo", "up")
-            sh("ip", "-n", ns, "link", "set", dev, "up")
-            # Egress of each end: token bucket at the link rate, then the one-way delay.
-            sh("ip", "netns", "exec", ns, "tc", "qdisc", "add", "dev", dev, "root", "handle", "1:", "tbf",
-               "rate", f"{rate}mbit", "burst", "64kb", "latency", "400ms")
-            try:
-                sh("ip", "netns", "exec", ns, "tc", "qdisc", "add", "dev", dev, "parent", "1:1", "handle", "10:",
-                   "netem", "delay", f"{delay_ms:g}ms")
-            except subprocess.CalledProcessError:
-                delay_ok = False
-        return delay_ok
-
-    def destroy(self):
-        for ns in (self.mobile, self.edge):
-            pids = subprocess.run(["ip", "netns", "pids", ns], capture_output=True, text=True).stdout.split()
-            for pid in pids:
-                try:
-                    os.kill(int(pid), signal.SIGKILL)
-                except (ProcessLookupError, ValueError):
-                    pass
-            subprocess.run(["ip", "netns", "del", ns], stderr=subprocess.DEVNULL)
-
-
-def ros_env(ip):
-    return dict(os.environ, ROS_MASTER_URI=f"http://{EDGE_IP}:{PORT}", ROS_IP=ip, ROS_HOSTNAME=ip)
-
-
-def spawn(ns, ip, cmd, log):
-    return subprocess.Popen(["ip", "netns", "exec", ns] + cmd, env=ros_env(ip), cwd=ROOT, stdout=log,
+def spawn(nets, side, cmd, log):
+    return subprocess.Popen(nets.wrap(side, cmd), env=nets.ros_env(side, PORT), cwd=ROOT, stdout=log,
                             stderr=subprocess.STDOUT, start_new_session=True)
-
-
-def call_service(ns, ip, name, srv_type):
-    """`rosservice call` from inside a namespace; the YAML answer as a dict (None on failure)."""
-    r = subprocess.run(["ip", "netns", "exec", ns, "rosservice", "call", name], env=ros_env(ip),
-                       capture_output=True, text=True, timeout=30)
-    if r.returncode != 0:
-        return None
-    out = {}
-    for line in r.stdout.splitlines():
-        if ":" in line and not line.startswith(" "):
-            k, v = line.split(":", 1)
-            out[k.strip()] = v.strip()
-    return out
 
 
 def main():
@@ -97,13 +52,14 @@ def main():
     ap.add_argument("--delay-ms", type=float, default=5.0)
     ap.add_argument("--camera", default=os.path.join(ROOT, "config/camera_synthetic.yaml"))
     ap.add_argument("--out", required=True)
-    ap.add_argument("--drain-s", type=float, default=10.0, help="wait after the bag ends before reading counters")
+    ap.add_argument("--drain-timeout", type=float, default=60.0,
+                    help="after the bag: at most this long for every KeyFrame to be durable and the edge to settle")
     args = ap.parse_args()
     if os.geteuid() != 0:
         sys.exit("netns_run: needs root (ip netns, tc)")
     os.makedirs(args.out, exist_ok=True)
     log = open(os.path.join(args.out, "log.txt"), "w")
-    nets = Namespaces(os.getpid() % 100000)
+    nets = NamespacePair("esb", os.getpid() % 100000, {"mobile": MOBILE_IP, "edge": EDGE_IP})
     procs = []
 
     def cleanup(*_):
@@ -124,12 +80,12 @@ def main():
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     counters = {"up_mbps": args.up, "down_mbps": args.down, "delay_ms": args.delay_ms}
     try:
-        counters["delay_applied"] = nets.create(args.up, args.down, args.delay_ms)
+        counters["delay_applied"] = nets.create({"mobile": args.up, "edge": args.down}, args.delay_ms)
         launch = os.path.join(ROOT, "launch")
-        procs.append(spawn(nets.edge, EDGE_IP, ["roscore", "-p", str(PORT)], log))
+        procs.append(spawn(nets, "edge", ["roscore", "-p", str(PORT)], log))
         for _ in range(100):
-            if subprocess.run(["ip", "netns", "exec", nets.edge, "rosparam", "set", "/use_sim_time", "true"],
-                              env=ros_env(EDGE_IP), capture_output=True).returncode == 0:
+            if subprocess.run(nets.wrap("edge", ["rosparam", "set", "/use_sim_time", "true"]),
+                              env=nets.ros_env("edge", PORT), capture_output=True).returncode == 0:
                 break
             time.sleep(0.3)
         out = os.path.abspath(args.out)
@@ -137,35 +93,42 @@ def main():
                             "keyframes_file": "edge_keyframes.txt"},
                    "mobile": {"stats_csv": "mobile_stats.csv", "metrics_file": "mobile_metrics.json",
                               "trajectory_file": "trajectory_online.txt", "anchors_file": "mobile_anchors.txt"}}
-        for side, ns, ip in (("edge", nets.edge, EDGE_IP), ("mobile", nets.mobile, MOBILE_IP)):
+        for side in ("edge", "mobile"):
             path = os.path.join(launch, f"{side}.launch")
             text = open(path).read()
             cmd = ["roslaunch", "--wait", path, f"camera_config:={args.camera}"]
             # The nodelets' own measurement files, for the launch arguments this version has.
             cmd += [f"{arg}:={os.path.join(out, name)}" for arg, name in outputs[side].items()
                     if f'name="{arg}"' in text]
-            procs.append(spawn(ns, ip, cmd, log))
-        procs.append(spawn(nets.mobile, MOBILE_IP, [sys.executable, os.path.join(HERE, "odometry_recorder.py"),
-                                                    "--out", os.path.join(args.out, "trajectory.txt")], log))
-        time.sleep(8)  # both nodelets load the vocabulary before the first frame
+            procs.append(spawn(nets, side, cmd, log))
+        procs.append(spawn(nets, "mobile", [sys.executable, "-m", "bench.odometry_recorder",
+                                            "--out", os.path.join(args.out, "trajectory.txt")], log))
+        # Both nodelets have loaded the vocabulary once they offer their services.
+        for name in ("/edge_slam/edge/status", "/edge_slam/mobile/delivery_status"):
+            if not wait_until(lambda: nets.call_service("mobile", name, PORT), 120):
+                raise RuntimeError(f"{name} never answered: see {args.out}/log.txt")
         t0 = time.time()
-        play = spawn(nets.mobile, MOBILE_IP, ["rosbag", "play", "--clock", "--quiet", args.bag], log)
+        play = spawn(nets, "mobile", ["rosbag", "play", "--clock", "--quiet", args.bag], log)
         procs.append(play)
         play.wait()
         counters["play_s"] = round(time.time() - t0, 1)
-        time.sleep(args.drain_s)
-        counters["mobile"] = call_service(nets.mobile, MOBILE_IP, "/edge_slam/mobile/map_update_status", None)
-        counters["edge"] = call_service(nets.mobile, MOBILE_IP, "/edge_slam/edge/status", None)
+        # Every KeyFrame the mobile made acknowledged as durable (or received), then the edge settled.
+        wait_until(lambda: (nets.call_service("mobile", "/edge_slam/mobile/delivery_status", PORT) or {})
+                   .get("queued", 1) == 0, args.drain_timeout)
+        wait_until_steady(lambda: edge_settled_key(nets.call_service("mobile", "/edge_slam/edge/status", PORT)), 4.0,
+                          args.drain_timeout)
+        counters["mobile"] = nets.call_service("mobile", "/edge_slam/mobile/map_update_status", PORT)
+        counters["edge"] = nets.call_service("mobile", "/edge_slam/edge/status", PORT)
     finally:
         cleanup()
         json.dump(counters, open(os.path.join(args.out, "counters.json"), "w"), indent=2)
     # Final trajectory as in `make eval MODE=split` (frames re-anchored on the edge's final
     # KeyFrames) when both sides wrote their files; the recorded odometry otherwise.
     anchors, kfs = (os.path.join(args.out, f) for f in ("mobile_anchors.txt", "edge_keyframes.txt"))
-    tool = os.path.join(ROOT, "scripts", "split_trajectory.py")
+    tool = os.path.join(ROOT, "scripts", "split_trajectory.py")  # run by the venv python (scipy)
     if os.path.isfile(tool) and os.path.isfile(anchors) and os.path.isfile(kfs):
         os.replace(os.path.join(args.out, "trajectory.txt"), os.path.join(args.out, "trajectory_odometry.txt"))
-        made = subprocess.run([sys.executable, tool, anchors, kfs, os.path.join(args.out, "trajectory.txt")],
+        made = subprocess.run([os.path.join(ROOT, ".venv", "bin", "python3"), tool, anchors, kfs, os.path.join(args.out, "trajectory.txt")],
                               stdout=log, stderr=subprocess.STDOUT).returncode == 0
         counters["trajectory"] = "final (split_trajectory.py)" if made else "none (split_trajectory.py failed)"
     else:

@@ -1,21 +1,18 @@
 #!/usr/bin/python3
 """The mobile's tracked poses as a TUM trajectory, from its nav_msgs/Odometry topic.
 
-odometry_recorder.py --out trajectory.txt [--topic /edge_slam/mobile/odometry]
+python3 -m bench.odometry_recorder --out trajectory.txt [--topic /edge_slam/mobile/odometry]
 
 Used where the benchmark launches mobile and edge itself (bandwidth-limit runs in network
 namespaces) instead of going through scripts/eval.sh. One line per message: the image stamp
 and the pose of the camera in the map frame. Waits for the master; stops on SIGINT/SIGTERM.
 """
 import argparse
-import os
-import sys
 
 import rospy
 from nav_msgs.msg import Odometry
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from recorder_node import run_recorder  # noqa: E402
+from .recorder_node import run_recorder
 
 
 def main():

@@ -4,8 +4,11 @@ Both CSVs hold one row per event, columns
   wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail
 (-1 = not applicable). Events used here:
   mobile  frame (duration = tracking ms), keyframe_sent, frame_sent,
-          update (latency = edge publish -> received, duration = Local-Map rebuild when accepted,
-          detail = "<kind> <decision>")
+          update: one row when an update arrives (bytes = its wire size > 0, latency = edge
+          publish -> received, duration = Local-Map rebuild when accepted, detail = "<kind>
+          <decision>"), and for an update deferred by eq. (1) a second row with the same seq when
+          it is finally applied or refused (bytes 0, latency -1, detail "<kind> <decision>
+          after_deferral")
   edge    keyframe (latency = mobile creation -> received, detail = verdict), frame,
           update_sent (duration = construction, from build start to publish)
 """
@@ -13,7 +16,7 @@ import os
 
 import numpy as np
 
-from bench_data import read_csv, stats
+from .bench_data import column, read_csv, stats
 
 
 def _rows(run_dir, side):
@@ -39,17 +42,17 @@ def summarize(run_dir):
         return {}
     ev = lambda rows, name: [r for r in rows if r.get("event") == name]  # noqa: E731
     updates = ev(mobile, "update")
+    arrived = update_arrivals(updates)
     accepted = [r for r in updates if _values([r], "duration_ms").size]
     # The rebuild target is about the periodic 6-KeyFrame update; relocalization ones are larger.
-    periodic = [r for r in accepted if (r.get("detail") or "").startswith("periodic")]
+    periodic = [r for r in accepted if update_kind(r) == "periodic"]
     decisions = {}
-    for r in updates:
-        parts = (r.get("detail") or "").split()
-        key = " ".join(parts) if parts else "?"
+    for r in final_update_rows(updates):
+        key = f"{update_kind(r)} {update_decision(r)}"
         decisions[key] = decisions.get(key, 0) + 1
     sent = ev(edge, "update_sent")
     # Intervals and construction are the periodic module's; relocalization answers come on demand.
-    sent_periodic = [r for r in sent if (r.get("detail") or "").startswith("periodic")]
+    sent_periodic = [r for r in sent if update_kind(r) == "periodic"]
     kf_edge = ev(edge, "keyframe")
     verdicts = {}
     for r in kf_edge:
@@ -60,7 +63,7 @@ def summarize(run_dir):
         "update_publish_interval_s": stats(np.diff(np.sort(_values(sent_periodic, "wall_time")))),
         "relocalization_update_construction_ms": stats(_values([r for r in sent if r not in sent_periodic],
                                                                "duration_ms")),
-        "update_delivery_ms": stats(_values(updates, "latency_ms")),
+        "update_delivery_ms": stats(_values(arrived, "latency_ms")),
         "update_acceptance_interval_s": stats(np.diff(np.sort(_values(periodic, "wall_time")))),
         "local_map_rebuild_ms": stats(_values(periodic, "duration_ms")),
         "update_bytes": stats(_values(sent_periodic, "bytes")),
@@ -71,8 +74,9 @@ def summarize(run_dir):
         "keyframes_received_by_edge": len(kf_edge),
         "edge_keyframe_verdicts": verdicts,
         "updates_sent": len(sent),
-        "updates_received": len(updates),
+        "updates_received": len(arrived),
         "updates_accepted": len(accepted),
+        "updates_deferred": len(updates) - len(arrived),
         "update_decisions": decisions,
         "frames_processed": len(ev(mobile, "frame")),
         "frames_tracked": sum(1 for r in ev(mobile, "frame") if r.get("detail") == "OK"),
@@ -82,11 +86,55 @@ def summarize(run_dir):
     }
 
 
+# ---- the "update" rows, read by column (seq, bytes, duration_ms) wherever the CSV allows it. The
+# update's kind and decision are only in the free-text detail ("<kind> <decision> [after_deferral]");
+# the mobile should emit them as columns of their own (kind, decision, deferred).
+
+def update_arrivals(updates):
+    """One row per update message received: the arrival rows carry its wire size (bytes > 0); the
+    second row of a deferred update (bytes 0) is its outcome, not another update."""
+    return [r for r in updates if _values([r], "bytes").size and float(r["bytes"]) > 0]
+
+
+def final_update_rows(updates):
+    """The last row of each update (by seq): its final decision (a deferral's outcome)."""
+    last = {}
+    for r in updates:
+        last[r.get("seq")] = r
+    return list(last.values())
+
+
+def update_kind(row):
+    words = (row.get("detail") or "").split()
+    return words[0] if words else "?"
+
+
+def update_decision(row):
+    words = (row.get("detail") or "").split()
+    return words[1] if len(words) > 1 else "?"
+
+
+def applied_update_stamps(csv_path):
+    """Data stamps (s) at which the mobile installed an update (rows with a rebuild duration),
+    from a mobile_stats.csv path: where the online trajectory may jump."""
+    rows = [r for r in read_csv(csv_path) or [] if r.get("event") == "update"]
+    return [float(r["data_time"]) for r in rows if _values([r], "duration_ms").size]
+
+
 def tracking_series(run_dir):
     """(data stamps, tracking ms) of every frame the mobile tracked in a split run."""
     frames = [r for r in _rows(run_dir, "mobile") if r.get("event") == "frame"]
     t, ms = _values(frames, "data_time", True), _values(frames, "duration_ms", True)
     return (t, ms) if len(t) and len(t) == len(ms) else (None, None)
+
+
+def frame_times(run_dir):
+    """Per-frame tracking latency (stamps, ms): frame_times.csv of the monolithic runner, or the
+    mobile's "frame" events in a split run's mobile_stats.csv."""
+    rows = read_csv(os.path.join(run_dir, "frame_times.csv"))
+    if rows:
+        return column(rows, "stamp"), column(rows, "tracking_ms")
+    return tracking_series(run_dir)
 
 
 TABLE = [("KeyFrame transmit latency (mobile creation -> edge received)", "keyframe_transmit_ms", "ms"),

@@ -7,17 +7,21 @@ import json
 import os
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
 import time
 
-import yaml
+import psutil
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import ate  # noqa: E402
+from bench import ate  # noqa: E402  (evo: the delivery tests run in the venv python)
+from bench.bench_data import split_files_complete  # noqa: E402
+from bench.netns import NamespacePair  # noqa: E402
+from bench.ros_util import edge_settled_key, rosservice_call, wait_until_steady  # noqa: E402
 
 BAG = os.path.join(ROOT, 'bags', 'synthetic_room.bag')
 GROUNDTRUTH = os.path.join(ROOT, 'bags', 'synthetic_room', 'groundtruth.txt')
@@ -33,14 +37,18 @@ FINAL_ATE_BOUND_M = 0.02
 TRACKED_ATE_BOUND_M = 0.20
 
 
+def free_port():
+    with socket.socket() as s:
+        s.bind(('127.0.0.1', 0))
+        return s.getsockname()[1]
+
+
 class SplitRun:
     def __init__(self, name, netns=False, rate=0.5, checkpoint_period=2.0):
-        self.out = tempfile.mkdtemp(prefix='edge_slam_%s_' % name)
+        self.out = tempfile.mkdtemp(prefix='edge_slam_%s_' % name)  # this run's own folder
         self.netns, self.rate = netns, rate
-        self.port = 11500 + os.getpid() % 400
-        tag = os.getpid() % 100000
-        self.ns = {'mobile': 'esd_m%d' % tag, 'edge': 'esd_e%d' % tag}
-        self.veth = {'mobile': 'esdm%d' % tag, 'edge': 'esde%d' % tag}
+        self.port = free_port()
+        self.nets = NamespacePair('esd', os.getpid() % 100000, {'mobile': MOBILE_IP, 'edge': EDGE_IP})
         self.procs = {}
         self.log = open(os.path.join(self.out, 'log.txt'), 'w')
         self.checkpoint = os.path.join(self.out, 'edge_checkpoint.esmap')
@@ -51,18 +59,18 @@ class SplitRun:
 
     # ---- processes ----
     def env(self, side):
-        env = dict(os.environ, ROS_MASTER_URI='http://%s:%d' % (EDGE_IP if self.netns else 'localhost', self.port),
-                   ROS_HOME=os.path.join(self.out, 'ros_home'), PATH='/usr/bin:' + os.environ.get('PATH', ''))
+        pythonpath = os.pathsep.join([os.path.join(ROOT, 'scripts')] + [p for p in os.environ.get('PYTHONPATH', '').split(
+            os.pathsep) if p])
+        env = dict(os.environ, ROS_HOME=os.path.join(self.out, 'ros_home'), PATH='/usr/bin:' + os.environ.get('PATH', ''),
+                   PYTHONPATH=pythonpath)
         if self.netns:
-            ip = MOBILE_IP if side == 'mobile' else EDGE_IP
-            env.update(ROS_IP=ip, ROS_HOSTNAME=ip)
-        else:
-            env.pop('ROS_IP', None)
-            env.update(ROS_HOSTNAME='localhost')
+            return self.nets.ros_env(side, self.port, base=env)
+        env.pop('ROS_IP', None)
+        env.update(ROS_MASTER_URI='http://localhost:%d' % self.port, ROS_HOSTNAME='localhost')
         return env
 
     def wrap(self, side, cmd):
-        return (['ip', 'netns', 'exec', self.ns[side]] + cmd) if self.netns else cmd
+        return self.nets.wrap(side, cmd) if self.netns else cmd
 
     def spawn(self, key, side, cmd):
         self.procs[key] = subprocess.Popen(self.wrap(side, cmd), env=self.env(side), cwd=ROOT, stdout=self.log,
@@ -84,18 +92,13 @@ class SplitRun:
 
     def call(self, side, service, timeout=30):
         """`rosservice call` as a dict (None when the service is not there)."""
-        try:
-            r = subprocess.run(self.wrap(side, ['rosservice', 'call', service]), env=self.env(side),
-                               capture_output=True, text=True, timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return None
-        return yaml.safe_load(r.stdout) if r.returncode == 0 else None
+        return rosservice_call(service, env=self.env(side), prefix=self.wrap(side, []), timeout=timeout)
 
     # ---- the run ----
     def __enter__(self):
         try:
             if self.netns:
-                self._make_namespaces()
+                self.nets.create()
             self.spawn('roscore', 'edge', ['roscore', '-p', str(self.port)])
             self.wait(lambda: subprocess.run(self.wrap('edge', ['rosparam', 'set', '/use_sim_time', 'true']),
                                              env=self.env('edge'), capture_output=True).returncode == 0,
@@ -104,9 +107,9 @@ class SplitRun:
             self.spawn('mobile', 'mobile', ['roslaunch', os.path.join(ROOT, 'launch', 'mobile.launch'),
                                             'slam_config:=' + self.slam_config,
                                             'anchors_file:=' + os.path.join(self.out, 'mobile_anchors.txt')])
-            self.spawn('odometry', 'mobile', ['/usr/bin/python3', os.path.join(ROOT, 'scripts', 'bench', 'odometry_recorder.py'),
+            self.spawn('odometry', 'mobile', [sys.executable, '-m', 'bench.odometry_recorder',
                                               '--out', os.path.join(self.out, 'odometry.txt')])
-            self.spawn('probe', 'mobile', ['/usr/bin/python3', os.path.join(HERE, 'stats_probe.py'),
+            self.spawn('probe', 'mobile', [sys.executable, os.path.join(HERE, 'stats_probe.py'),
                                            '--out', os.path.join(self.out, 'stats.jsonl')])
             self.wait_for_edge()
             self.wait(lambda: self.call('mobile', '/edge_slam/mobile/delivery_status'), 90, 'the mobile nodelet')
@@ -119,7 +122,7 @@ class SplitRun:
         for key in list(self.procs)[::-1]:
             self.stop(key)
         if self.netns:
-            self._remove_namespaces()
+            self.nets.destroy()
         self.log.close()
         if exc[0] is None and not os.environ.get('EDGE_SLAM_KEEP_TEST_OUTPUT'):
             shutil.rmtree(self.out, ignore_errors=True)
@@ -133,6 +136,11 @@ class SplitRun:
 
     def wait_for_edge(self, timeout=90):
         return self.wait(lambda: self.call('edge', '/edge_slam/edge/status'), timeout, 'the edge nodelet')
+
+    def wait_for_edge_settled(self, timeout=120):
+        """Local-Mapping and Loop-Closing finished what they were given: the status stops changing."""
+        if not wait_until_steady(lambda: edge_settled_key(self.call('edge', '/edge_slam/edge/status')), 4.0, timeout):
+            raise AssertionError('timed out after %.0f s waiting for the edge to settle' % timeout)
 
     def play(self):
         self.play_start = time.time()
@@ -151,63 +159,40 @@ class SplitRun:
             time.sleep(0.3)
         raise AssertionError('timed out after %.0f s waiting for %s' % (timeout, what))
 
-    def _make_namespaces(self):
-        if os.geteuid() != 0:
-            raise AssertionError('the link-cut test needs root (ip netns, veth); run make test as root')
-        def sh(*cmd):
-            r = subprocess.run(cmd, capture_output=True, text=True)
-            if r.returncode != 0:
-                raise AssertionError('network namespace setup failed: %s: %s' % (' '.join(cmd), r.stderr.strip()))
-        for side in ('mobile', 'edge'):
-            sh('ip', 'netns', 'add', self.ns[side])
-        sh('ip', 'link', 'add', self.veth['mobile'], 'type', 'veth', 'peer', 'name', self.veth['edge'])
-        for side, ip in (('mobile', MOBILE_IP), ('edge', EDGE_IP)):
-            sh('ip', 'link', 'set', self.veth[side], 'netns', self.ns[side])
-            sh('ip', '-n', self.ns[side], 'addr', 'add', ip + '/24', 'dev', self.veth[side])
-            sh('ip', '-n', self.ns[side], 'link', 'set', 'lo', 'up')
-            sh('ip', '-n', self.ns[side], 'link', 'set', self.veth[side], 'up')
-
     def set_link(self, up):
-        subprocess.run(['ip', '-n', self.ns['mobile'], 'link', 'set', self.veth['mobile'], 'up' if up else 'down'],
-                       check=True)
-
-    def _remove_namespaces(self):
-        for side in ('mobile', 'edge'):
-            pids = subprocess.run(['ip', 'netns', 'pids', self.ns[side]], capture_output=True, text=True).stdout.split()
-            for pid in pids:
-                try:
-                    os.kill(int(pid), signal.SIGKILL)
-                except (ProcessLookupError, ValueError):
-                    pass
-            subprocess.run(['ip', 'netns', 'del', self.ns[side]], stderr=subprocess.DEVNULL)
+        self.nets.set_link(up)
 
     # ---- figures ----
     def child(self, key, name):
-        """(pid, /proc status text) of the node `name` (e.g. mobile_manager) our roslaunch `key`
-        started: roslaunch puts its nodes in their own sessions, so it is found by parent pid."""
-        parent = self.procs[key].pid
-        for pid in filter(str.isdigit, os.listdir('/proc')):
-            try:
-                status = open('/proc/%s/status' % pid).read()
-                cmdline = open('/proc/%s/cmdline' % pid).read().split('\0')
-            except OSError:
-                continue
-            if int(status.split('PPid:')[1].split()[0]) == parent and '__name:=' + name in cmdline:
-                return int(pid), status
-        return None, ''
+        """The psutil.Process of node `name` (e.g. mobile_manager) our roslaunch `key` started, or None."""
+        try:
+            for proc in psutil.Process(self.procs[key].pid).children(recursive=True):
+                try:
+                    if '__name:=' + name in proc.cmdline():
+                        return proc
+                except (psutil.NoSuchProcess, psutil.AccessDenied):
+                    continue
+        except psutil.NoSuchProcess:
+            pass
+        return None
 
     def kill_edge(self):
         """SIGKILL the edge's nodelet manager (the edge process), then let its roslaunch go."""
-        pid, _ = self.child('edge', 'edge_manager')
-        if pid is None:
+        proc = self.child('edge', 'edge_manager')
+        if proc is None:
             raise AssertionError('no edge nodelet manager process found')
-        os.kill(pid, signal.SIGKILL)
+        proc.send_signal(signal.SIGKILL)
         self.stop('edge')
 
     def mobile_peak_rss_mb(self):
-        """VmHWM of the mobile's nodelet manager."""
-        _, status = self.child('mobile', 'mobile_manager')
-        return int(status.split('VmHWM:')[1].split()[0]) / 1024.0 if status else float('nan')
+        """Peak resident memory (VmHWM) of the mobile's nodelet manager: psutil finds the process
+        but reports no peak on Linux, so the one figure is read from its status file."""
+        proc = self.child('mobile', 'mobile_manager')
+        try:
+            with open('/proc/%d/status' % proc.pid) as f:
+                return next(int(l.split()[1]) for l in f if l.startswith('VmHWM:')) / 1024.0
+        except (AttributeError, OSError, StopIteration):
+            return float('nan')
 
     def stats_rows(self):
         rows = []
@@ -219,21 +204,24 @@ class SplitRun:
         return rows
 
     def ate_m(self):
-        t_gt, p_gt = ate.read_tum(GROUNDTRUTH)
-        t, p = ate.read_tum(os.path.join(self.out, 'odometry.txt'))
-        return ate.ate_stats(t, p, t_gt, p_gt, 0.02)['ate_rmse_m']
+        """ATE of the poses as tracked (the mobile's odometry)."""
+        return ate.ate_stats(GROUNDTRUTH, os.path.join(self.out, 'odometry.txt'))['ate_rmse_m']
 
-    def final_ate_m(self):
-        """ATE of the final trajectory (split_trajectory.py) and the share of frames anchored."""
-        import numpy as np
+    def odometry_stamps(self):
+        from edge_slam_common.tum import pose_seconds
+        return pose_seconds(os.path.join(self.out, 'odometry.txt'))
+
+    def final_ate_m(self, edge_status):
+        """ATE of the final trajectory (split_trajectory.py) and the share of frames anchored, once
+        the nodelets' files hold every pose and the Global-Map the edge reports (edge_status)."""
         import split_trajectory
-        time.sleep(2.5)  # both nodelets rewrite their files every second
+        self.wait(lambda: split_files_complete(self.out, self.odometry_stamps(), edge_status['global_map_ids']), 30,
+                  'the anchors and Global-Map KeyFrame files to be complete')
         final, missing, total = split_trajectory.final_trajectory(os.path.join(self.out, 'mobile_anchors.txt'),
                                                                   os.path.join(self.out, 'edge_keyframes.txt'))
-        t_gt, p_gt = ate.read_tum(GROUNDTRUTH)
-        t = np.array([s for s, _ in final])
-        p = np.array([T[:3, 3] for _, T in final])
-        return ate.ate_stats(t, p, t_gt, p_gt, 0.02)['ate_rmse_m'], (total - missing) / max(total, 1)
+        stamps = [s for s, _ in final]
+        xyz = [T[:3, 3] for _, T in final]
+        return ate.ate_stats(GROUNDTRUTH, ate.trajectory(stamps, xyz))['ate_rmse_m'], (total - missing) / max(total, 1)
 
 
 def run_disturbed(test, name, netns, disturb):
@@ -243,16 +231,17 @@ def run_disturbed(test, name, netns, disturb):
         run.play()
         outage = disturb(run)
         run.procs['play'].wait(300)
-        # Everything the mobile holds becomes durable within a few checkpoints.
+        # Everything the mobile holds becomes durable within a few checkpoints; the edge settles.
         run.wait(lambda: (run.call('mobile', '/edge_slam/mobile/delivery_status') or {}).get('queued', 1) == 0,
                  60, 'the mobile to have every KeyFrame durable on the edge')
+        run.wait_for_edge_settled()
         mobile = run.call('mobile', '/edge_slam/mobile/delivery_status')
         edge = run.call('edge', '/edge_slam/edge/status')
         status = run.call('mobile', '/edge_slam/mobile/map_update_status')
         rss = run.mobile_peak_rss_mb()
         rows = run.stats_rows()
         rmse = run.ate_m()
-        final_rmse, anchored = run.final_ate_m()
+        final_rmse, anchored = run.final_ate_m(edge)
         created = set(mobile['created_ids'])
         received = set(edge['received_ids'])
         inserted = set(edge['inserted_ids'])

@@ -9,8 +9,8 @@ import time
 import rospy
 from edge_slam_msgs.msg import Stats
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts', 'bench'))
-from recorder_node import run_recorder  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts'))
+from bench.recorder_node import run_recorder  # noqa: E402
 
 
 def main():

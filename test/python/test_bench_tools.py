@@ -3,6 +3,7 @@
 finder, the blank-frames copy, the /proc sampler, CPU % from cumulative CPU seconds and the
 map-update pipeline figures from event CSVs."""
 import csv
+import json
 import os
 import subprocess
 import sys
@@ -13,11 +14,11 @@ import unittest
 import cv2
 import numpy as np
 
-BENCH = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts', 'bench'))
-sys.path.insert(0, BENCH)
-from bench_data import cpu_percent  # noqa: E402
-from fast_turn import fast_turn  # noqa: E402
-import pipeline_stats  # noqa: E402
+SCRIPTS = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts'))
+sys.path.insert(0, SCRIPTS)
+from bench import pipeline_stats  # noqa: E402
+from bench.bench_data import cpu_percent  # noqa: E402
+from bench.fast_turn import fast_turn  # noqa: E402
 
 
 def yaw_quaternion(deg):
@@ -56,14 +57,34 @@ class BlankFramesTest(unittest.TestCase):
                     f.write(f'{i / 10:.6f} {name}\n')
             with open(os.path.join(src, 'groundtruth.txt'), 'w') as f:
                 f.write('0 0 0 0 0 0 0 1\n')
-            out = subprocess.run([sys.executable, os.path.join(BENCH, 'blank_frames.py'), src, dst,
-                                  '--start-fraction', '0.5', '--seconds', '1.0'],
+            out = subprocess.run([sys.executable, os.path.join(SCRIPTS, 'blank_frames.py'), src, dst,
+                                  '--start-fraction', '0.5', '--seconds', '1.0', '--json'],
                                  capture_output=True, text=True, check=True).stdout
-            self.assertTrue(out.startswith('10 blank frames'), out)
+            self.assertEqual(json.loads(out)['indices'], [25, 34], out)
+            self.assertEqual(json.loads(out)['stamps'], [2.5, 3.4], out)
             blank = [i for i in range(50) if cv2.imread(os.path.join(dst, f'rgb/{i}.png')).max() == 0]
             self.assertEqual(blank, list(range(25, 35)))
             self.assertTrue(os.path.islink(os.path.join(dst, 'groundtruth.txt')))
             self.assertTrue(os.path.islink(os.path.join(dst, 'rgb/0.png')))
+
+    def test_blanks_by_index_and_refuses_a_range_outside_the_sequence(self):
+        with tempfile.TemporaryDirectory() as d:
+            src, dst = os.path.join(d, 'seq'), os.path.join(d, 'blank')
+            os.makedirs(os.path.join(src, 'rgb'))
+            with open(os.path.join(src, 'rgb.txt'), 'w') as f:
+                for i in range(10):
+                    cv2.imwrite(os.path.join(src, f'rgb/{i}.png'), np.full((4, 4), 90, np.uint8))
+                    f.write(f'{i / 10:.6f} rgb/{i}.png\n')
+            tool = [sys.executable, os.path.join(SCRIPTS, 'blank_frames.py'), src, dst]
+            subprocess.run(tool + ['--start', '2', '--count', '3'], capture_output=True, check=True)
+            blank = [i for i in range(10) if cv2.imread(os.path.join(dst, f'rgb/{i}.png'), cv2.IMREAD_UNCHANGED).max() == 0]
+            self.assertEqual(blank, [2, 3, 4])
+            again = subprocess.run(tool + ['--start', '0', '--count', '1'], capture_output=True, text=True)
+            self.assertNotEqual(again.returncode, 0)
+            self.assertIn('exists', again.stderr)
+            outside = subprocess.run(tool + ['--start', '8', '--count', '3', '--force'], capture_output=True, text=True)
+            self.assertNotEqual(outside.returncode, 0)
+            self.assertIn('outside the 10', outside.stderr)
 
 
 class ProcSamplerTest(unittest.TestCase):
@@ -74,9 +95,9 @@ class ProcSamplerTest(unittest.TestCase):
             # Spins until it has used 0.6 s of CPU, however loaded the machine is (no wall-time assumption).
             busy = 'import time\nwhile time.process_time() < 0.6: pass\n'
             root = subprocess.Popen(['/bin/sh', '-c', f'{sys.executable} -c "{busy}" bench_busy_marker; true'])
-            sampler = subprocess.run([sys.executable, os.path.join(BENCH, 'proc_sampler.py'), '--root-pid',
-                                      str(root.pid), '--out', out, '--hz', '20', '--role', 'busy=bench_busy_marker',
-                                      '--role', 'absent=no_such_process'], timeout=30)
+            sampler = subprocess.run([sys.executable, '-m', 'bench.proc_sampler', '--root-pid', str(root.pid), '--out',
+                                      out, '--hz', '20', '--role', 'busy=bench_busy_marker',
+                                      '--role', 'absent=no_such_process'], timeout=30, cwd=SCRIPTS)
             root.wait()
             self.assertEqual(sampler.returncode, 0)
             with open(out) as f:
@@ -113,7 +134,10 @@ class PipelineStatsTest(unittest.TestCase):
                 (10.1, 1.1, 'keyframe_sent', 1, 45000, -1, -1, -1, ''),
                 (15.0, 6.0, 'update', 1, 400000, 30.0, 12.0, 6, 'periodic accepted'),
                 (20.0, 11.0, 'update', 2, 400000, 40.0, -1, 6, 'periodic controller'),
-                (25.0, 16.0, 'update', 3, 400000, 50.0, 14.0, 6, 'periodic accepted')])
+                (25.0, 16.0, 'update', 3, 400000, 50.0, 14.0, 6, 'periodic accepted'),
+                # a deferred update: its arrival, then its outcome (same seq, no transfer)
+                (30.0, 21.0, 'update', 4, 400000, 45.0, -1, 6, 'periodic deferred'),
+                (30.5, 21.5, 'update', 4, 0, -1, 16.0, 6, 'periodic accepted after_deferral')])
             self.write(os.path.join(d, 'edge_stats.csv'), [
                 (10.2, 1.1, 'keyframe', 1, 45000, 8.0, -1, -1, 'inserted'),
                 (15.0, 6.0, 'update_sent', 1, 400000, -1, 5.0, -1, 'periodic 6 KFs 900 points'),
@@ -121,14 +145,18 @@ class PipelineStatsTest(unittest.TestCase):
                 (25.0, 16.0, 'update_sent', 3, 400000, -1, 9.0, -1, 'periodic 6 KFs 900 points')])
             s = pipeline_stats.summarize(d)
             t, ms = pipeline_stats.tracking_series(d)
+            applied = pipeline_stats.applied_update_stamps(os.path.join(d, 'mobile_stats.csv'))
         self.assertEqual(s['keyframe_transmit_ms']['median'], 8.0)
         self.assertEqual(s['update_construction_ms']['median'], 7.0)
         self.assertEqual(s['update_publish_interval_s']['median'], 5.0)
-        self.assertEqual(s['update_acceptance_interval_s']['median'], 10.0)
-        self.assertEqual(s['local_map_rebuild_ms']['median'], 13.0)
-        self.assertEqual((s['updates_received'], s['updates_accepted']), (3, 2))
-        self.assertEqual(s['update_decisions'], {'periodic accepted': 2, 'periodic controller': 1})
-        self.assertEqual(pipeline_stats.rebuild_median(s), 13.0)
+        self.assertEqual(s['update_acceptance_interval_s']['median'], 7.75)  # 10 s, then 5.5 s
+        self.assertEqual(s['local_map_rebuild_ms']['median'], 14.0)
+        # the deferred update is one update received (not two), accepted once, deferred once
+        self.assertEqual((s['updates_received'], s['updates_accepted'], s['updates_deferred']), (4, 3, 1))
+        self.assertEqual(s['update_decisions'], {'periodic accepted': 3, 'periodic controller': 1})
+        self.assertEqual(s['update_delivery_ms']['count'], 4)
+        self.assertEqual(pipeline_stats.rebuild_median(s), 14.0)
+        self.assertEqual(applied, [6.0, 16.0, 21.5])
         self.assertEqual(list(ms), [20.0])
 
     def test_no_csv_no_figures(self):

@@ -3,7 +3,6 @@
 its Local-Map and, through the reset-flagged KeyFrame, the edge's Global-Map; when playback
 resumes both sides map again from scratch."""
 import sys
-import time
 import unittest
 
 import rospy
@@ -18,7 +17,7 @@ class ResetTest(unittest.TestCase):
         system.wait_for_tracking()
         system.wait_until(lambda: system.edge_status().global_map_keyframes >= 4, 90, 'a Global-Map of 4 KeyFrames')
         system.pause_player(True)
-        time.sleep(1.5)  # frames and KeyFrames in flight arrive
+        system.wait_for_pipeline_drained()  # frames and KeyFrames in flight arrive
         before = system.edge_status()
         self.assertGreaterEqual(before.global_map_keyframes, 4)
         self.assertGreater(system.mobile_status().local_map_keyframes, 0)

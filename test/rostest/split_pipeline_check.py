@@ -7,7 +7,6 @@ more than its cap of KeyFrames; the edge closes the loop and accounts for every 
 accepted (in the Global-Map, or culled as redundant by Local-Mapping)."""
 import os
 import sys
-import time
 import unittest
 
 import rospy
@@ -29,11 +28,12 @@ class SplitPipelineTest(unittest.TestCase):
         gt = os.path.join(root, 'bags', 'synthetic_room', 'groundtruth.txt')
         online_rmse, matched = ate_rmse(system.poses, gt)
         out = rospy.get_param('~out')
-        time.sleep(2.5)  # the nodelets rewrite their files every second
+        system.wait_for_run_files(out)  # the nodelets rewrite their files every second
         import split_trajectory
         final, missing, total = split_trajectory.final_trajectory(os.path.join(out, 'mobile_anchors.txt'),
                                                                   os.path.join(out, 'edge_keyframes.txt'))
         rmse, _ = ate_rmse([(t, T[0, 3], T[1, 3], T[2, 3]) for t, T in final], gt)
+        print('split run files in %s' % out, file=sys.stderr)
         mobile = system.mobile_status()
         edge = system.edge_status()
         print('ATE final %.2f cm (%d of %d frames anchored), as tracked %.2f cm over %d poses; updates received %d accepted %d (rejected: controller %d, '

@@ -1,45 +1,62 @@
-"""Shared by the split rostests: service proxies for the mobile and edge nodelets, the mobile's
-trajectory from its odometry topic, the end of the bag, and the ATE against ground truth."""
+"""Shared by the split rostests (run by the venv python: evo): service proxies for the mobile and
+edge nodelets, the mobile's trajectory from its odometry topic, the end of the bag (the player node
+gone), waits on counters and topics instead of sleeps, and the ATE against ground truth (bench.ate)."""
 import os
 import sys
 import time
 
-import numpy as np
+import rosgraph
 import rospy
 from edge_slam_msgs.msg import Stats
-from edge_slam_msgs.srv import GetEdgeStatus, GetMapUpdateStatus, SetMapUpdates
+from edge_slam_msgs.srv import GetDeliveryStatus, GetEdgeStatus, GetMapUpdateStatus, SetMapUpdates
 from nav_msgs.msg import Odometry
+from sensor_msgs.msg import CameraInfo
 from std_srvs.srv import SetBool, Trigger
 
 NS = '/edge_slam'
+PLAYER = '/player'  # rosbag play / tum_player in launch/edge_slam.launch
 
 
 def repo_root():
     root = rospy.get_param('~repo')
-    sys.path.insert(0, os.path.join(root, 'scripts'))
+    if os.path.join(root, 'scripts') not in sys.path:
+        sys.path.insert(0, os.path.join(root, 'scripts'))
     return root
+
+
+def node_running(name):
+    """Whether node `name` is registered with the master (publishes, subscribes or serves)."""
+    state = rosgraph.Master(rospy.get_name()).getSystemState()
+    return any(name in nodes for kind in state for _, nodes in kind)
 
 
 class SplitSystem:
     """Talks to a running mobile + edge pair (launch/edge_slam.launch)."""
 
     def __init__(self):
-        self.poses = []            # (stamp, x, y, z) from the mobile's odometry
+        self.poses = []            # (stamp, x, y, z, qx, qy, qz, qw) from the mobile's odometry
         self.last_pose_wall = None
         self.local_map_max = 0     # largest local_map_keyframes seen on the mobile's stats topic
         self.stats_seen = 0
         rospy.Subscriber(NS + '/mobile/odometry', Odometry, self._on_odometry, queue_size=100)
         rospy.Subscriber(NS + '/mobile/stats', Stats, self._on_stats, queue_size=10)
-        for name in ('/mobile/map_update_status', '/mobile/set_map_updates', '/mobile/reset', '/edge/status'):
+        # The player's frames, by the stamps of their (small) camera_info messages: one per image.
+        self.sent = {'rgb': set(), 'depth': set()}
+        for kind in self.sent:
+            rospy.Subscriber('/camera/%s/camera_info' % kind, CameraInfo,
+                             lambda m, k=kind: self.sent[k].add(m.header.stamp.to_sec()), queue_size=100)
+        for name in ('/mobile/map_update_status', '/mobile/set_map_updates', '/mobile/reset', '/mobile/delivery_status',
+                     '/edge/status'):
             rospy.wait_for_service(NS + name, timeout=120)
+        self.delivery_status = rospy.ServiceProxy(NS + '/mobile/delivery_status', GetDeliveryStatus)
         self.mobile_status = rospy.ServiceProxy(NS + '/mobile/map_update_status', GetMapUpdateStatus)
         self.set_updates = rospy.ServiceProxy(NS + '/mobile/set_map_updates', SetMapUpdates)
         self.reset = rospy.ServiceProxy(NS + '/mobile/reset', Trigger)
         self.edge_status = rospy.ServiceProxy(NS + '/edge/status', GetEdgeStatus)
 
     def _on_odometry(self, msg):
-        p = msg.pose.pose.position
-        self.poses.append((msg.header.stamp.to_sec(), p.x, p.y, p.z))
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        self.poses.append((msg.header.stamp.to_sec(), p.x, p.y, p.z, q.x, q.y, q.z, q.w))
         self.last_pose_wall = time.time()
 
     def _on_stats(self, msg):
@@ -67,22 +84,55 @@ class SplitSystem:
                 return False
         self.wait_until(ready, timeout, 'the mobile to start tracking')
 
-    def wait_for_bag_end(self, quiet=5.0, timeout=240):
-        """The bag is over when no pose has arrived for `quiet` seconds after the first one."""
-        self.wait_until(lambda: self.last_pose_wall is not None, timeout, 'the first pose')
-        self.wait_until(lambda: time.time() - self.last_pose_wall > quiet, timeout, 'the end of the bag')
+    def wait_for_bag_end(self, timeout=300):
+        """The bag is over when its player has played it and exited (its node is gone from the
+        master); a mobile that stopped tracking does not look like the end."""
+        self.wait_until(lambda: node_running(PLAYER), 60, 'the player node')
+        self.wait_until(lambda: not node_running(PLAYER), timeout, 'the player to finish the bag')
+
+    def wait_for_keyframes_delivered(self, timeout=60):
+        """Every KeyFrame the mobile made so far has reached the edge (in its received ids)."""
+        def delivered():
+            made = set(self.delivery_status().created_ids)
+            return made <= set(self.edge_status().received_ids)
+        self.wait_until(delivered, timeout, 'every KeyFrame the mobile made to reach the edge')
+
+    def last_frame_sent(self):
+        """Stamp (s) of the newest colour + depth pair the player has sent, or None."""
+        both = self.sent['rgb'] & self.sent['depth']
+        return max(both) if both else None
+
+    def wait_for_frames_processed(self, stamp=None, timeout=60):
+        """The mobile has tracked the camera frame stamped `stamp` (s; default: the newest pair the
+        player sent, e.g. once it is paused): its pose is on the odometry topic."""
+        t = self.last_frame_sent() if stamp is None else stamp
+        if t is None:
+            raise AssertionError('the player has sent no camera frame')
+        self.wait_until(lambda: any(abs(p[0] - t) < 1e-6 for p in self.poses[-50:]), timeout,
+                        'the mobile to track the last frame sent (stamp %.6f)' % t)
+
+    def wait_for_pipeline_drained(self, timeout=60):
+        """With the player paused: the frames in flight are tracked and the KeyFrames in flight
+        have reached the edge."""
+        self.wait_for_frames_processed(timeout=timeout)
+        self.wait_for_keyframes_delivered(timeout)
 
     def wait_for_edge_settled(self, timeout=120):
-        """Local-Mapping and Loop-Closing finish what they were given: the Global-Map stops changing."""
-        last = [None, time.time()]
+        """Local-Mapping and Loop-Closing finish what they were given: the Global-Map stops changing
+        (the status offers no idle flag, so: unchanged for 4 s)."""
+        repo_root()  # scripts/ on the path: the bench package
+        from bench.ros_util import edge_settled_key, wait_until_steady
+        if not wait_until_steady(lambda: edge_settled_key(self.edge_status()), 4.0, timeout):
+            raise AssertionError('timed out after %.0f s waiting for the edge to settle' % timeout)
 
-        def settled():
-            s = self.edge_status()
-            key = (s.inserted, s.global_map_keyframes, s.loops_closed, tuple(s.culled_ids))
-            if key != last[0]:
-                last[0], last[1] = key, time.time()
-            return time.time() - last[1] > 4.0
-        self.wait_until(settled, timeout, 'the edge to settle')
+    def wait_for_run_files(self, out, timeout=30):
+        """The nodelets' files in `out` hold every published pose (but the mobile's unflushed tail)
+        and the Global-Map the edge reports now."""
+        repo_root()
+        from bench.bench_data import split_files_complete
+        ids = list(self.edge_status().global_map_ids)
+        self.wait_until(lambda: split_files_complete(out, [p[0] for p in self.poses], ids), timeout,
+                        'the anchors and Global-Map KeyFrame files in %s to be complete' % out)
 
     def pause_player(self, pause):
         """rosbag play's own pause service (std_srvs/SetBool)."""
@@ -93,13 +143,15 @@ class SplitSystem:
         rospy.ServiceProxy(names[0], SetBool)(pause)
 
 
-def ate_rmse(poses, groundtruth_path, max_dt=0.02):
-    """Umeyama SE(3)-aligned ATE RMSE (metres) and pairs of (stamp, x, y, z) poses, via scripts/ate.py."""
-    import ate
-    t_gt, p_gt = ate.read_tum(groundtruth_path)
-    est = np.array(sorted(poses))
+def ate_rmse(poses, groundtruth_path):
+    """ATE RMSE (metres) and pairs of (stamp, x, y, z[, qx, qy, qz, qw]) poses against the ground
+    truth, from bench.ate (evo, the project's one ATE tool and association tolerance)."""
+    repo_root()
+    from bench import ate
+    poses = sorted(poses)
+    quat = [p[4:8] for p in poses] if all(len(p) == 8 for p in poses) else None
     try:
-        res = ate.ate_stats(est[:, 0], est[:, 1:4], t_gt, p_gt, max_dt)
+        res = ate.ate_stats(groundtruth_path, ate.trajectory([p[0] for p in poses], [p[1:4] for p in poses], quat))
     except ValueError as e:
         raise AssertionError(str(e))
     return res['ate_rmse_m'], res['ate_pairs']

@@ -67,7 +67,7 @@ class ValidationTest(unittest.TestCase):
         system.wait_for_tracking()
         system.wait_until(lambda: system.edge_status().global_map_keyframes >= 4, 120, 'a Global-Map of 4 KeyFrames')
         system.pause_player(True)
-        time.sleep(1.5)  # frames and KeyFrames in flight arrive
+        system.wait_for_pipeline_drained()  # frames and KeyFrames in flight arrive
         self.assertTrue(system.set_updates(False).success)  # the edge's own updates must not change the Local-Map
         system.wait_for_edge_settled()
         edge_before, mobile_before = system.edge_status(), system.mobile_status()
@@ -89,7 +89,6 @@ class ValidationTest(unittest.TestCase):
         pubs = {t: rospy.Publisher(NS + '/' + t, TYPES[t], queue_size=1000) for t in TYPES}
         system.wait_until(lambda: all(p.get_num_connections() > 0 for p in pubs.values()), 20,
                           'the nodelets to subscribe to the test publishers')
-        time.sleep(0.5)
         base = self.counted()
         gen = MalformedMessages(seed=7)
         plan = [gen.rng.choice(MalformedMessages.TOPICS) for _ in range(TOTAL)]
@@ -112,7 +111,6 @@ class ValidationTest(unittest.TestCase):
             kinds[name] += 1
         system.wait_until(lambda: all(self.counted()[t] - base[t] >= sent[t] for t in TYPES), 30,
                           'every malformed message to be counted')
-        time.sleep(1.0)
         final = self.counted()
         print('sent %s in %.1f s over %d mutation kinds; counted %s' % (
             dict(sent), time.time() - start, len(kinds), {t: final[t] - base[t] for t in TYPES}), file=sys.stderr)
@@ -126,6 +124,8 @@ class ValidationTest(unittest.TestCase):
         def stats_agree():
             return all(self.seen.stats.get(n, {}).get(k) == final[t] for t, (n, k) in names.items())
         system.wait_until(stats_agree, 10, '~stats to report the same malformed counts')
+        # ~stats is published after the last count: nothing was counted twice in the meantime.
+        self.assertEqual(self.counted(), final, 'no message counted again after the flood')
 
     def bad_images(self):
         """Bad camera frames between two bag frames (stamps just after the last one, so the
@@ -138,7 +138,6 @@ class ValidationTest(unittest.TestCase):
         pub_depth = rospy.Publisher(DEPTH_TOPIC, Image, queue_size=10)
         system.wait_until(lambda: pub_rgb.get_num_connections() > 1 and pub_depth.get_num_connections() > 1, 20,
                           'the mobile to subscribe to the test image publishers')
-        time.sleep(0.5)
         t0 = rgb.header.stamp
 
         def image(src, stamp, encoding=None, width=None, height=None, data=None):
@@ -157,7 +156,14 @@ class ValidationTest(unittest.TestCase):
             part = a[:src.height // 2, :src.step // 2]
             return image(src, stamp, width=src.width // 2, height=src.height // 2, data=part.tobytes())
 
-        bad = []
+        # Why each pair below is dropped (None: a good frame, tracked).
+        reasons = ['encoding', 'encoding', 'size', 'size', 'depth', 'depth', None, 'stamp']
+        so_far = collections.Counter()
+
+        def counted():
+            now = system.mobile_status()
+            return {k: getattr(now, 'images_rejected_' + k) - getattr(before, 'images_rejected_' + k) for k in expected}
+        expected = {'encoding': 2, 'size': 2, 'depth': 2, 'stamp': 1}
         for k, make in enumerate([
                 lambda s: (image(rgb, s, encoding='rgba8'), image(depth, s)),
                 lambda s: (image(rgb, s), image(depth, s, encoding='8UC1')),
@@ -172,12 +178,14 @@ class ValidationTest(unittest.TestCase):
             c, d = make(stamp)
             pub_rgb.publish(c)
             pub_depth.publish(d)
-            time.sleep(0.4)  # the image queues are short (2): one pair at a time
-        expected = {'encoding': 2, 'size': 2, 'depth': 2, 'stamp': 1}
-
-        def counted():
-            now = system.mobile_status()
-            return {k: getattr(now, 'images_rejected_' + k) - getattr(before, 'images_rejected_' + k) for k in expected}
+            # The image queues are short (2): the next pair goes out once this one is dealt with.
+            if reasons[k] is None:
+                system.wait_for_frames_processed(stamp.to_sec(), 20)
+            else:
+                so_far[reasons[k]] += 1
+                want = dict(so_far)
+                system.wait_until(lambda: all(counted()[r] >= n for r, n in want.items()), 20,
+                                  'camera frame %d (bad %s) to be counted' % (k, reasons[k]))
         try:
             system.wait_until(lambda: counted() == expected, 20, 'the bad camera frames to be counted')
         finally:

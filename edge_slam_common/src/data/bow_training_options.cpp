@@ -28,6 +28,15 @@ bool ends_with_txt(const std::string& path) {
 
 }  // namespace
 
+void exit_with_training_usage(const char* usage, const std::string& message) {
+  if (message.empty()) {
+    std::fputs(usage, stdout);
+    std::exit(0);
+  }
+  std::fprintf(stderr, "error: %s\n%s", message.c_str(), usage);
+  std::exit(2);
+}
+
 bool parse_training_flag(const std::string& flag, const char* value, TrainingOptions& o) {
   if (flag == "--out") o.out = value;
   else if (flag == "--k") o.params.branching = static_cast<int>(parse_integer(flag, value, 2));

@@ -21,6 +21,10 @@ struct TrainingOptions {
 // when `flag` is not one of them; throws std::invalid_argument naming the flag on a bad value.
 bool parse_training_flag(const std::string& flag, const char* value, TrainingOptions& options);
 
+// A trainer's usage text: with an empty message (--help) on stdout and exit status 0, else the
+// error and the usage on stderr and exit status 2.
+[[noreturn]] void exit_with_training_usage(const char* usage, const std::string& message);
+
 // Trains on the descriptors, prints words/nodes/time and writes options.out.
 void train_and_save_vocabulary(const std::vector<cv::Mat>& descriptors, const TrainingOptions& options);
 

@@ -1,0 +1,86 @@
+"""ROS helpers shared by the bench tools and test/delivery: one parser of `rosservice call`
+output and rospy's own wait for a service."""
+import subprocess
+import time
+
+import yaml
+
+
+def parse_rosservice_output(text):
+    """`rosservice call` prints the response as YAML: a dict of its fields (None when empty)."""
+    doc = yaml.safe_load(text) if text.strip() else None
+    return doc if isinstance(doc, dict) else None
+
+
+def rosservice_call(name, env=None, prefix=(), timeout=30):
+    """`[prefix...] rosservice call <name>` (prefix: e.g. `ip netns exec <ns>`), the response as a
+    dict; None when the service is not there, the call fails or it takes longer than `timeout` s."""
+    try:
+        r = subprocess.run(list(prefix) + ["rosservice", "call", name], env=env, capture_output=True, text=True,
+                           timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return None
+    return parse_rosservice_output(r.stdout) if r.returncode == 0 else None
+
+
+def wait_for_service(name, timeout, keep_waiting=lambda: True):
+    """True once `name` is registered with the master (rospy.wait_for_service, no node needed);
+    False after `timeout` s or as soon as keep_waiting() is False (e.g. the process that should
+    offer it has exited)."""
+    import rospy
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and keep_waiting():
+        try:
+            rospy.wait_for_service(name, timeout=min(1.0, max(0.1, deadline - time.monotonic())))
+            return True
+        except rospy.ROSException:
+            continue
+        except OSError:  # the master is not up yet
+            time.sleep(0.2)
+    return False
+
+
+def edge_settled_key(status):
+    """What changes while the edge's Local-Mapping / Loop-Closing still work on what they were
+    given (status: GetEdgeStatus as a dict or a response); None without a status."""
+    if not status:
+        return None
+    get = status.get if isinstance(status, dict) else lambda k: getattr(status, k)
+    return (get("inserted"), get("global_map_keyframes"), get("global_map_points"), get("loops_closed"),
+            tuple(get("culled_ids") or ()))
+
+
+def wait_until_steady(read_key, quiet_s, timeout, step=0.5):
+    """True once read_key() has returned the same value (not None) for quiet_s seconds; False
+    after `timeout` s. For a pipeline that has no idle signal of its own (the edge's status)."""
+    deadline = time.monotonic() + timeout
+    last, since = None, None
+    while time.monotonic() < deadline:
+        key = read_key()
+        now = time.monotonic()
+        if key is None or key != last:
+            last, since = key, now
+        elif now - since >= quiet_s:
+            return True
+        time.sleep(step)
+    return False
+
+
+def main():
+    """Command line for the shell scripts (scripts/eval_split.sh)."""
+    import argparse
+    import sys
+    ap = argparse.ArgumentParser(prog="python3 -m bench.ros_util", description=__doc__)
+    ap.add_argument("command", choices=["edge-settled"],
+                    help="edge-settled: wait until the edge's status stops changing (quiet for --quiet s)")
+    ap.add_argument("--quiet", type=float, default=4.0)
+    ap.add_argument("--timeout", type=float, default=120.0)
+    a = ap.parse_args()
+    ok = wait_until_steady(lambda: edge_settled_key(rosservice_call("/edge_slam/edge/status")), a.quiet, a.timeout)
+    if not ok:
+        print(f"bench.ros_util: the edge did not settle within {a.timeout:.0f} s", file=sys.stderr)
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
