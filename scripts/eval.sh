@@ -116,6 +116,21 @@ print(f"ATE RMSE {ate['ate_rmse_m'] * 100:.2f} cm ({ate['ate_tool']}), "
       f"tracking median {m['tracking_ms']['median']:.1f} ms -> {path}")
 PY
 
+if [[ "$MODE" == "monolithic" && -f "$OUT/trajectory_online.txt" ]]; then
+  # The poses as tracked, before later BA and loop corrections: what a robot navigates on.
+  ONLINE_JSON=$(ate "$DATASET/groundtruth.txt" "$OUT/trajectory_online.txt")
+  /usr/bin/python3 - "$OUT/metrics.json" "$ONLINE_JSON" <<'PY'
+import json, sys
+path, ate = sys.argv[1], json.loads(sys.argv[2])
+m = json.load(open(path))
+m["ate_online_rmse_m"] = ate["ate_rmse_m"]
+m["ate_online_pairs"] = ate["ate_pairs"]
+json.dump(m, open(path, "w"), indent=2)
+print(f"monolithic: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; KeyFrames {m.get('keyframes')}; "
+      f"loops closed {m.get('loops_closed')}; lost {m.get('times_lost')} times")
+PY
+fi
+
 if [[ "$MODE" == "split" && -f "$OUT/trajectory_online.txt" ]]; then
   # The poses as the mobile tracked them (before the edge's later optimisation and loop closure),
   # and their largest jump at an installed Local-Map update (mobile_stats.csv "update" rows).

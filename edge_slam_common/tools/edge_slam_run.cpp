@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
     frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms,"
                  "path,initial_matches,initial_inliers,local_map_points,matches_before_final,reference_points,"
                  "tracked_close,untracked_close,keyframe_conditions,prediction_error_cm,prediction_error_deg,"
-                 "mapping_queue,local_ba_aborted\n"
+                 "mapping_queue,local_ba_aborted,weak_pose\n"
               << std::fixed;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
@@ -192,7 +192,8 @@ int main(int argc, char** argv) {
                 << r.diag.matches_before_final << ',' << r.diag.reference_points << ',' << r.diag.tracked_close << ','
                 << r.diag.untracked_close << ',' << r.diag.keyframe_conditions << ',' << r.diag.prediction_error_m * 100
                 << ',' << r.diag.prediction_error_deg << ',' << (slam.local_mapping() ? slam.local_mapping()->queued() : 0)
-                << ',' << (slam.local_mapping() ? slam.local_mapping()->stats().local_ba_aborted : 0) << '\n';
+                << ',' << (slam.local_mapping() ? slam.local_mapping()->stats().local_ba_aborted : 0) << ','
+                << r.diag.weak_pose << '\n';
       if (processed % 100 == 0)
         std::cerr << "frame " << i + 1 << "/" << n << "  keyframes " << map->num_keyframes() << "  points "
                   << map->num_map_points() << "  inliers " << r.inliers << "  " << std::fixed
@@ -216,6 +217,8 @@ int main(int argc, char** argv) {
         .integer("times_lost", c.times_lost)
         .integer("relocalizations", c.relocalizations)
         .integer("rejected_inputs", c.rejected_inputs)
+        .integer("weak_frames", c.weak_frames)
+        .integer("wide_motion_searches", c.wide_motion_searches)
         .integer("keyframes", static_cast<long long>(map->num_keyframes()))
         .integer("map_points", static_cast<long long>(map->num_map_points()));
     add_module_figures(m, collect_module_figures(slam.local_mapping(), slam.loop_closing()));

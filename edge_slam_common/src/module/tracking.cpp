@@ -23,6 +23,9 @@ constexpr float kMotionModelRetryWindow = 30.f;
 constexpr int kMinMotionMatches = 20;
 constexpr int kMinBowMatches = 15;
 constexpr int kMinMapMatchesAfterPose = 10;
+// Share of the tight-window matches that must survive the pose optimisation for the constant-
+// velocity hypothesis to stand alone (typical frames keep 70-80%, a wrongly predicted one 20-40%).
+constexpr double kMinMotionInlierShare = 0.5;
 constexpr float kLocalMapWindow = 3.f;        // 5 right after a relocalization
 constexpr float kMinViewCos = 0.5f;           // 60 degrees off the mean viewing direction
 
@@ -194,7 +197,13 @@ TrackingResult Tracking::track_frame(Frame frame) {
         diag.prediction_error_m = (frame.camera_center() - predicted_T_cw.inverse().translation()).norm();
         diag.prediction_error_deg = Eigen::AngleAxisd(d.rotation()).angle() * 180.0 / M_PI;
       }
-      if (decide_keyframe(frame, inliers, diag)) {
+      // A pose the matches barely support (blur, a wrong prediction) must not become a KeyFrame:
+      // its new points would be placed from a wrong pose and the frames after it would track on
+      // them, locking the error into the map. The next well-tracked frame makes the KeyFrame.
+      diag.weak_pose = diag.matches_before_final > 0 &&
+                       inliers < params_.weak_pose_inlier_share * diag.matches_before_final;
+      if (diag.weak_pose) ++counters_.weak_frames;
+      if (decide_keyframe(frame, inliers, diag) && !diag.weak_pose) {
         create_keyframe(frame, false);
         result.new_keyframe = true;
       }
@@ -214,6 +223,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
   result.state = state_;
   result.inliers = inliers;
   last_frame_tracked_ = ok;
+  last_frame_weak_ = ok && diag.weak_pose;
   last_frame_ = std::move(frame);
   result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   result.cpu_ms = thread_cpu_ms() - c0;
@@ -249,20 +259,43 @@ void Tracking::predict_last_frame_pose() {
 
 bool Tracking::track_with_motion_model(Frame& frame, TrackingDiagnostics& diag) {
   const OrbMatcher matcher(0.9f, true);
-  frame.set_pose(velocity_ * last_frame_.T_cw());
-  clear_matches(frame);
-  diag.path = "motion";
-  int n = matcher.search_by_projection(frame, last_frame_, kMotionModelWindow);
-  if (n < kMinMotionMatches) {
+  const Eigen::Isometry3d predicted = velocity_ * last_frame_.T_cw();
+  // One hypothesis: the matches within `window` of the prediction, then the pose they support.
+  auto hypothesis = [&](float window) {
+    frame.set_pose(predicted);
     clear_matches(frame);
-    diag.path = "motion_wide";
-    n = matcher.search_by_projection(frame, last_frame_, kMotionModelRetryWindow);
+    const int n = matcher.search_by_projection(frame, last_frame_, window);
+    MotionHypothesis h;
+    h.window = window;
+    h.matches = n;
+    if (n >= kMinMotionMatches && optimize_frame_pose(frame) >= 0) h.inliers = discard_outliers(frame);
+    h.pose = frame.T_cw();
+    h.map_points = frame.map_points;
+    h.outliers = frame.outliers;
+    return h;
+  };
+  MotionHypothesis best = hypothesis(kMotionModelWindow);
+  diag.path = "motion";
+  // The tight window assumes the velocity held. When it did not (an acceleration in a fast turn,
+  // or a previous pose that was itself weak), the true matches lie outside it and the nearest
+  // look-alikes inside it support a wrong pose: few of the matches survive the optimisation.
+  // Then the same prediction is searched widely as well and the better-supported pose is kept.
+  const bool supported = best.inliers >= kMinMapMatchesAfterPose &&
+                         best.inliers >= kMinMotionInlierShare * best.matches && !last_frame_weak_;
+  if (!supported) {
+    MotionHypothesis wide = hypothesis(kMotionModelRetryWindow);
+    ++counters_.wide_motion_searches;
+    if (wide.inliers > best.inliers) {
+      best = std::move(wide);
+      diag.path = "motion_wide";
+    }
   }
-  diag.initial_matches = n;
-  if (n < kMinMotionMatches) return false;
-  if (optimize_frame_pose(frame) < 0) return false;
-  diag.initial_inliers = discard_outliers(frame);
-  return diag.initial_inliers >= kMinMapMatchesAfterPose;
+  frame.set_pose(best.pose);
+  frame.map_points = std::move(best.map_points);
+  frame.outliers = std::move(best.outliers);
+  diag.initial_matches = best.matches;
+  diag.initial_inliers = best.inliers;
+  return best.inliers >= kMinMapMatchesAfterPose;
 }
 
 void Tracking::recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<const FrameFeatures>& measured) {

@@ -47,6 +47,7 @@ struct TrackingDiagnostics {
   bool has_prediction = false;    // a constant-velocity prediction existed
   double prediction_error_m = 0;  // final camera centre vs the predicted one
   double prediction_error_deg = 0;
+  bool weak_pose = false;         // inliers < weak_pose_inlier_share x matches_before_final: no KeyFrame
 };
 
 struct TrackingResult {
@@ -78,6 +79,17 @@ struct TrackingCounters {
   int relocalizations = 0;
   int keyframes_created = 0;
   int rejected_inputs = 0;
+  int wide_motion_searches = 0;  // frames whose motion-model hypothesis needed the wide search too
+  int weak_frames = 0;           // tracked frames whose pose the matches barely supported
+};
+
+// A pose found from the last frame's matches within a search window (motion model).
+struct MotionHypothesis {
+  float window = 0;
+  int matches = 0, inliers = 0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  std::vector<std::shared_ptr<MapPoint>> map_points;
+  std::vector<bool> outliers;
 };
 
 class Tracking {
@@ -142,6 +154,7 @@ class Tracking {
   uint64_t next_frame_id_ = 0;
   Frame last_frame_;
   bool last_frame_tracked_ = false;
+  bool last_frame_weak_ = false;  // tracked, but its pose was weakly supported (see is_weak_pose)
   Eigen::Isometry3d last_relative_to_ref_ = Eigen::Isometry3d::Identity();  // T_last,ref
   bool has_velocity_ = false;
   Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // T_cur,last

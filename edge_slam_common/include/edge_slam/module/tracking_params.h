@@ -23,6 +23,10 @@ struct TrackingParams {
   // mapping to fuse observations; without a mapper points gain observations only from the
   // keyframes that track them, so 2 keeps (4) meaningful.
   int reference_min_observations = 2;
+  // A tracked frame whose final pose keeps fewer than this share of the matches it was optimised
+  // on is weakly supported (motion blur, a wrong prediction): it makes no KeyFrame, and the next
+  // frame does not trust its velocity alone. 0 = off (ORB-SLAM2 has no such gate).
+  double weak_pose_inlier_share = 0.2;
 };
 
 OrbParams load_orb_params(const ConfigMap& cfg);          // "orb:" section, defaults if absent
