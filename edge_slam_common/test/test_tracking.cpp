@@ -247,3 +247,70 @@ TEST(Tracking, KeepsTrackingAfterTheMapIsRebuiltFromCopies) {
     EXPECT_LT((r.T_cw.inverse().translation() - true_pose(i).translation()).norm(), 0.01);
   }
 }
+
+namespace {
+// Yaw at a steady rate, then a sudden acceleration at frame `jump`: the constant-velocity
+// prediction of that frame is off by `extra` radians (~20 px at the image centre for 2.2 deg).
+Eigen::Isometry3d accelerating_pose(int i, int jump, double extra) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const double yaw = 0.004 * i + (i >= jump ? extra * (i - jump + 1) : 0.0);
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.004 * i, 0, 0);
+  return T;
+}
+}  // namespace
+
+TEST(Tracking, AWronglyPredictedFrameIsSearchedWidelyAndTrackedRight) {
+  const Renderer renderer;
+  auto map = std::make_shared<Map>();
+  auto tracking = make_tracking(map);
+  const int jump = 5;
+  const double extra = 2.2 * M_PI / 180;
+  for (int i = 0; i <= jump + 1; ++i) {
+    cv::Mat color, depth;
+    const Eigen::Isometry3d truth = accelerating_pose(i, jump, extra);
+    renderer.render(truth, color, depth);
+    const TrackingResult r = tracking->track_rgbd(color, depth, i / 30.0);
+    ASSERT_TRUE(r.pose_valid) << "frame " << i << ": " << r.message;
+    const Eigen::Isometry3d T_wc = r.T_cw.inverse();
+    const double r_err = Eigen::AngleAxisd(T_wc.rotation().transpose() * truth.rotation()).angle();
+    EXPECT_LT((T_wc.translation() - truth.translation()).norm(), 0.01) << "frame " << i;
+    EXPECT_LT(r_err, 0.2 * M_PI / 180) << "frame " << i;
+    if (i == jump) {
+      // The tight window around the prediction held too few true matches: the wide search won.
+      EXPECT_STREQ(r.diag.path, "motion_wide") << "frame " << i;
+      EXPECT_TRUE(r.diag.has_prediction);
+      EXPECT_GT(r.diag.prediction_error_deg, 1.5);
+    }
+  }
+  EXPECT_GE(tracking->counters().wide_motion_searches, 1);
+}
+
+TEST(Tracking, AWeaklySupportedPoseMakesNoKeyFrame) {
+  const Renderer renderer;
+  auto map = std::make_shared<Map>();
+  TrackingParams params;
+  params.weak_pose_inlier_share = 0.99;  // every real frame keeps fewer: all count as weak
+  Tracking weak_gate(camera(), OrbParams(), params, map, std::make_shared<KeyFrameDatabase>(), nullptr);
+  auto map2 = std::make_shared<Map>();
+  params.weak_pose_inlier_share = 0.0;  // off: the same frames make KeyFrames
+  Tracking no_gate(camera(), OrbParams(), params, map2, std::make_shared<KeyFrameDatabase>(), nullptr);
+  int weak_keyframes = 0, keyframes = 0;
+  weak_gate.on_new_keyframe = [&](const std::shared_ptr<KeyFrame>&) { ++weak_keyframes; };
+  no_gate.on_new_keyframe = [&](const std::shared_ptr<KeyFrame>&) { ++keyframes; };
+  for (int i = 0; i < 40; i += 2) {  // a fast slide: the reference's points run out
+    cv::Mat color, depth;
+    renderer.render(true_pose(2 * i), color, depth);
+    const TrackingResult a = weak_gate.track_rgbd(color, depth, i / 30.0);
+    const TrackingResult b = no_gate.track_rgbd(color, depth, i / 30.0);
+    ASSERT_TRUE(a.pose_valid && b.pose_valid) << "frame " << i;
+    if (i > 0) {
+      EXPECT_TRUE(a.diag.weak_pose) << "frame " << i;
+      EXPECT_FALSE(a.new_keyframe) << "frame " << i;
+      EXPECT_FALSE(b.diag.weak_pose) << "frame " << i;
+    }
+  }
+  EXPECT_EQ(weak_keyframes, 1);  // the initial one only
+  EXPECT_GE(keyframes, 3);
+  EXPECT_EQ(weak_gate.counters().weak_frames, 19);
+}
