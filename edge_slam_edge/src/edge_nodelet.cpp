@@ -111,6 +111,8 @@ class EdgeNodelet : public nodelet::Nodelet {
     stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
     // Acknowledgements at a steady 5 Hz: cheap, and a mobile that reconnects learns the state at once.
     ack_timer_ = nh.createWallTimer(ros::WallDuration(0.2), [this](const ros::WallTimerEvent&) { publish_ack(); });
+    progress_timer_ = nh.createWallTimer(ros::WallDuration(0.01),
+                                         [this](const ros::WallTimerEvent&) { publish_ack_on_progress(); });
     if (!checkpoint_file_.empty())
       checkpoint_timer_ = nh.createWallTimer(ros::WallDuration(checkpoint_period),
                                              [this](const ros::WallTimerEvent&) { checkpoint("periodic"); });
@@ -180,7 +182,15 @@ class EdgeNodelet : public nodelet::Nodelet {
     ack.received_seq = session_->counters().received_seq;
     ack.persistent = !checkpoint_file_.empty();
     ack.durable_seq = durable_seq_;
+    ack.mapped_seq = session_->mapped_seq();
+    last_acked_mapped_seq_ = ack.mapped_seq;
     ack_pub_.publish(ack);
+  }
+
+  // As soon as Local-Mapping is done with a KeyFrame the mobile hears of it: its condition 2
+  // waits for that (edge_slam/mobile_keyframe_pacing), like ORB-SLAM2's tracker reading its mapper.
+  void publish_ack_on_progress() {
+    if (session_->mapped_seq() != last_acked_mapped_seq_) publish_ack();
   }
 
   // A restored Global-Map is durable by definition (it came from the file). A corrupt or
@@ -485,7 +495,8 @@ class EdgeNodelet : public nodelet::Nodelet {
   ros::Subscriber keyframe_sub_, frame_sub_, floor_sub_;
   ros::ServiceServer status_srv_, save_srv_, load_srv_;
   ros::Timer update_timer_;
-  ros::WallTimer display_timer_, stats_timer_, ack_timer_, checkpoint_timer_;
+  ros::WallTimer display_timer_, stats_timer_, ack_timer_, progress_timer_, checkpoint_timer_;
+  std::atomic<uint64_t> last_acked_mapped_seq_{0};
 };
 
 }  // namespace edge_slam_edge

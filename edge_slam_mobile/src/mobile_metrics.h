@@ -109,8 +109,25 @@ class MobileMetrics {
         .integer("rejected_keyframe_rate", u.rejected_keyframe_rate)
         .integer("rejected_not_lost", u.rejected_not_lost)
         .integer("rejected_invalid", u.rejected_invalid);
+    const edge_slam::MobileKeyFrameStats k = s.keyframe_stats();
+    const edge_slam::MobileUpdateStats us = s.update_stats();
+    edge_slam::MetricsJson kf_stats;
+    kf_stats.integer("made", static_cast<long long>(k.made))
+        .integer("fewer_than_reference", static_cast<long long>(k.fewer_than_reference))
+        .integer("needs_close_points", static_cast<long long>(k.needs_close_points))
+        .integer("weak_tracking", static_cast<long long>(k.weak_tracking))
+        .integer("reference_mobile_made", static_cast<long long>(k.reference_mobile_made))
+        .number("mean_inliers", k.made ? double(k.inliers_sum) / k.made : 0.0)
+        .number("mean_reference_points", k.made ? double(k.reference_points_sum) / k.made : 0.0);
+    edge_slam::MetricsJson update_stats;
+    update_stats.integer("installed", static_cast<long long>(us.installed))
+        .integer("tracked_points_before", static_cast<long long>(us.tracked_points_before))
+        .integer("tracked_points_kept", static_cast<long long>(us.tracked_points_kept))
+        .number("min_kept_share", us.min_kept_share)
+        .integer("mobile_keyframes_dropped", static_cast<long long>(us.mobile_keyframes_dropped));
     edge_slam::MetricsJson m;
     m.text("mode", "split").text("dataset", dataset);
+    m.object("keyframe_stats", kf_stats).object("update_stats", update_stats);
     std::lock_guard<std::mutex> lock(mutex_);
     m.integer("frames", t.frames)
         .integer("frames_tracked", t.frames_tracked)

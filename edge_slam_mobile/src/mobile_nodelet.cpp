@@ -284,6 +284,8 @@ class MobileNodelet : public nodelet::Nodelet {
     ack.received_seq = msg->received_seq;
     ack.durable_seq = msg->durable_seq;
     ack.persistent = msg->persistent;
+    ack.mapped_seq = msg->mapped_seq;
+    if (auto s = session()) s->on_edge_progress(msg->mapped_seq);
     const uint64_t restarts = delivery_->counters().edge_restarts;
     delivery_->on_ack(ack, edge_slam::wall_clock_seconds());
     if (delivery_->counters().edge_restarts != restarts)

@@ -34,6 +34,10 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
     msg.new_point_xyz.insert(msg.new_point_xyz.end(), {p.position.x(), p.position.y(), p.position.z()});
   }
   msg.parent_id = r.parent_id;
+  msg.tracked_points = r.tracked_points;
+  msg.reference_points = r.reference_points;
+  msg.tracked_close_points = r.tracked_close_points;
+  msg.untracked_close_points = r.untracked_close_points;
   for (const auto& [kf, weight] : r.covisibility) {
     msg.covis_ids.push_back(kf);
     msg.covis_weights.push_back(static_cast<uint16_t>(std::min<uint32_t>(weight, 65535)));
@@ -104,6 +108,10 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   r.created_wall = msg.created_wall;
   r.reset = msg.reset;
   r.parent_id = msg.parent_id;
+  r.tracked_points = msg.tracked_points;
+  r.reference_points = msg.reference_points;
+  r.tracked_close_points = msg.tracked_close_points;
+  r.untracked_close_points = msg.untracked_close_points;
   // The remaining record-level rules (one point per keypoint, unique links, ranges) are the
   // core's, shared with every other way a record can arrive.
   if (std::string problem = keyframe_record_problem(r); !problem.empty()) return DecodeStatus::failure(problem);

@@ -8,6 +8,7 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/io/map_snapshot.h"
+#include "edge_slam/module/tracking_params.h"
 #include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
@@ -27,8 +28,7 @@ const char* to_string(KeyFrameVerdict v) {
 EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   EdgeSessionParams p;
   p.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
-  p.min_frames_after_relocalization = cfg.get_int_or("tracking/min_frames_after_relocalization", 20, 0, 100000);
-  p.max_frames_between_keyframes = cfg.get_int_or("tracking/max_frames_between_keyframes", 20, 1, 100000);  // as tracking reads it
+  p.keyframe = load_tracking_params(cfg).keyframe;  // conditions 1-2: the tracker's own settings
   p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
@@ -51,6 +51,10 @@ EdgeSession::~EdgeSession() { stop_modules(); }
 
 void EdgeSession::start_modules() {
   mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary_, params_.mapping);
+  mapping_->on_keyframe_done = [this](const std::shared_ptr<KeyFrame>& kf) {
+    std::lock_guard<std::mutex> lock(mapping_seq_mutex_);
+    in_mapping_.erase(kf->id());
+  };
   mapping_->on_keyframes_culled = [this](const std::vector<uint32_t>& ids) {
     std::lock_guard<std::mutex> lock(culled_mutex_);
     culled_ids_.insert(culled_ids_.end(), ids.begin(), ids.end());
@@ -68,6 +72,8 @@ void EdgeSession::stop_modules() {
   if (loop_) loop_->shutdown(false);
   loop_.reset();
   mapping_.reset();
+  std::lock_guard<std::mutex> lock(mapping_seq_mutex_);
+  in_mapping_.clear();  // what was queued is gone with the modules
 }
 
 KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::string* error) {
@@ -84,21 +90,35 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
     ++counters_.duplicates;
     return KeyFrameVerdict::kDuplicate;
   }
-  // Condition 1: not within N frames of a relocalization the edge assisted.
-  if (relocalization_sent_ && r.frame_id >= last_relocalization_frame_id_ &&
-      r.frame_id < last_relocalization_frame_id_ + static_cast<uint64_t>(params_.min_frames_after_relocalization)) {
+  // Conditions 1-2 with the tracker's own predicates (keyframe_decision.h), on what the mobile's
+  // decision saw: condition 2 lets a busy Local-Mapping be passed by weak tracking, as in
+  // ORB-SLAM2, so the KeyFrames of a fast turn are not refused exactly when they are needed.
+  KeyFrameDecisionInput in;
+  in.frame_id = r.frame_id;
+  // Condition 1 counts from a relocalization the edge assisted; a KeyFrame made before it is not affected.
+  in.relocalized_before = relocalization_sent_ && r.frame_id >= last_relocalization_frame_id_;
+  in.last_relocalization_frame_id = last_relocalization_frame_id_;
+  in.last_keyframe_frame_id = last_inserted_frame_id_;
+  in.mapper_idle = !any_inserted_ || mapping_->idle();
+  in.tracked_points = r.tracked_points;
+  in.reference_tracked_points = r.reference_points;
+  in.tracked_close_points = r.tracked_close_points;
+  in.untracked_close_points = r.untracked_close_points;
+  if (!relocalization_gap_passed(params_.keyframe, in)) {
     ++counters_.rejected_condition1;
+    keep_pending_points(r);
     return KeyFrameVerdict::kRejectedAfterRelocalization;
   }
-  // Condition 2: N frames since the last inserted KeyFrame, or Local-Mapping idle (live KeyFrames only).
+  // Condition 2 paces live KeyFrames only: backlog from an outage or a restart is always queued.
   const bool late = params_.late_keyframe_age > 0 && r.created_wall > 0 &&
                     wall_clock_seconds() - r.created_wall > params_.late_keyframe_age;
   if (late) ++counters_.late_keyframes;
-  if (!late && any_inserted_ && !mapping_->idle() &&
-      r.frame_id < last_inserted_frame_id_ + static_cast<uint64_t>(params_.max_frames_between_keyframes)) {
+  if (!late && !keyframe_gap_or_mapper_idle(params_.keyframe, in)) {
     ++counters_.rejected_condition2;
+    keep_pending_points(r);
     return KeyFrameVerdict::kRejectedMapperBusy;
   }
+  if (!in.mapper_idle && weak_tracking(params_.keyframe, in)) ++counters_.weak_tracking_inserted;
 
   std::shared_ptr<KeyFrame> kf;
   std::vector<std::shared_ptr<MapPoint>> new_points;
@@ -116,13 +136,28 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
       if (map_->map_point(mp->id())) continue;  // already known: keep the edge's version
       map_->add_map_point(mp);
     }
-    // Observations of points the Global-Map no longer has (culled, or their KeyFrame was
-    // rejected) are dropped here; Local-Mapping links the rest.
+    // Points of refused KeyFrames this one observes join the Global-Map now, with this KeyFrame
+    // as their reference. Observations of points the Global-Map does not have at all (culled)
+    // are dropped; Local-Mapping links the rest.
     const std::vector<uint32_t> ids = kf->map_point_ids();
-    for (size_t i = 0; i < ids.size(); ++i)
-      if (ids[i] != kNoId && !map_->map_point(ids[i])) kf->erase_map_point_id(i);
+    for (size_t i = 0; i < ids.size(); ++i) {
+      if (ids[i] == kNoId || map_->map_point(ids[i])) continue;
+      const auto pending = pending_points_.find(ids[i]);
+      if (pending != pending_points_.end()) {
+        pending->second->set_reference_kf_id(kf->id());
+        map_->add_map_point(pending->second);
+        pending_points_.erase(pending);
+        ++counters_.pending_points_adopted;
+      } else {
+        kf->erase_map_point_id(i);
+      }
+    }
     if (kf->parent_id() != kNoId && !map_->keyframe(kf->parent_id())) kf->set_parent(kNoId);
     map_->add_keyframe(kf);
+  }
+  {
+    std::lock_guard<std::mutex> lock(mapping_seq_mutex_);
+    in_mapping_[kf->id()] = r.seq;
   }
   mapping_->insert_keyframe(kf);
   inserted_ids_.push_back(kf->id());
@@ -131,6 +166,32 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
   ++counters_.inserted;
   return KeyFrameVerdict::kInserted;
 }
+
+void EdgeSession::keep_pending_points(const KeyFrameRecord& r) {
+  if (r.new_points.empty() || params_.pending_point_capacity == 0) return;
+  std::shared_ptr<const FrameFeatures> features;
+  try {
+    features = features_from_record(r.features, r.camera, camera_, pyramid_);
+  } catch (const std::exception&) {
+    return;  // not a usable record: its points cannot be described either
+  }
+  const KeyFrame source(r.id, r.frame_id, r.stamp, features, r.T_wc.inverse());
+  for (const NewPointRecord& p : r.new_points) {
+    if (pending_points_.count(p.id)) continue;
+    try {
+      pending_points_.emplace(p.id, map_point_from_new_point(p, source));
+    } catch (const std::exception&) {
+      continue;
+    }
+    pending_order_.push_back(p.id);
+  }
+  while (pending_order_.size() > params_.pending_point_capacity) {  // oldest first
+    pending_points_.erase(pending_order_.front());
+    pending_order_.pop_front();
+  }
+}
+
+uint64_t EdgeSession::mapped_seq() const { return counters().mapped_seq; }
 
 void EdgeSession::skip_keyframes_through(uint64_t floor) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -210,6 +271,8 @@ void EdgeSession::reset_locked() {
   database_->clear();
   seen_ids_.clear();
   inserted_ids_.clear();
+  pending_points_.clear();
+  pending_order_.clear();
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_.clear();
@@ -268,6 +331,8 @@ void EdgeSession::load_map(const std::string& path) {
     last_inserted_frame_id_ = std::max<uint64_t>(last_inserted_frame_id_, kf->frame_id());
   }
   inserted_ids_ = snapshot.inserted_keyframe_ids;  // insertion order: the newest go in updates
+  pending_points_.clear();
+  pending_order_.clear();
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;
@@ -288,6 +353,12 @@ EdgeCounters EdgeSession::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
   EdgeCounters c = counters_;
   c.received_seq = receipts_.contiguous();
+  {
+    std::lock_guard<std::mutex> map_lock(mapping_seq_mutex_);
+    uint64_t oldest = UINT64_MAX;
+    for (const auto& [id, seq] : in_mapping_) oldest = std::min(oldest, seq);
+    c.mapped_seq = oldest == UINT64_MAX ? c.received_seq : std::min(c.received_seq, oldest - 1);
+  }
   return c;
 }
 // The modules are replaced on a reset (under mutex_), so every reader of them takes mutex_.

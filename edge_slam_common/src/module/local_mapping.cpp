@@ -45,7 +45,8 @@ void LocalMapping::insert_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   set_idle(false);
   abort_ba_ = true;
   ++submitted_;
-  if (queue_.push(kf)) {
+  if (auto evicted = queue_.push(kf)) {
+    if (on_keyframe_done) on_keyframe_done(*evicted);
     ++completed_;
     std::cerr << "[mapping] queue full: oldest keyframe dropped\n";
   }
@@ -144,8 +145,11 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) {
     std::cerr << "[mapping] keyframe " << (kf ? std::to_string(kf->id()) : "null")
               << " was erased while queued: skipped\n";
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    ++stats_.keyframes_skipped;
+    {
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      ++stats_.keyframes_skipped;
+    }
+    if (on_keyframe_done && kf) on_keyframe_done(kf);
     return;
   }
   int culled = 0, created = 0, fused = 0, kf_culled = 0;
@@ -186,6 +190,7 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     process_ms_.push_back(ms_since(t0));
   }
   if (on_keyframe_processed && !kf->is_bad()) on_keyframe_processed(kf);
+  if (on_keyframe_done) on_keyframe_done(kf);
 }
 
 void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {

@@ -1,6 +1,7 @@
 #include "edge_slam/module/mobile_session.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <chrono>
 #include <unordered_set>
 
@@ -17,9 +18,15 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.policy.initial_time_constraint = cfg.get_double_or("edge_slam/initial_time_constraint", 0.3, 0.0, 60.0);
   p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
+  const std::string pacing = cfg.get_string("edge_slam/mobile_keyframe_pacing", "edge");
+  if (pacing == "edge")
+    p.keyframe_pacing = MobileSessionParams::KeyFramePacing::kEdge;
+  else if (pacing == "none")
+    p.keyframe_pacing = MobileSessionParams::KeyFramePacing::kNone;
+  else
+    throw std::runtime_error(cfg.origin() + ": key 'edge_slam/mobile_keyframe_pacing' has value '" + pacing +
+                             "', expected one of edge, none");
   // At least one update's worth, or an accepted update would be cut down at once.
-  p.reference_min_observations = cfg.get_int_or("edge_slam/mobile_reference_min_observations", 2, 1, 100);
-  p.ref_ratio = cfg.get_double_or("edge_slam/mobile_ref_ratio", 0.6, 0.05, 2.0);
   p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
   return p;
@@ -27,9 +34,8 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
 
 namespace {
 TrackingParams mobile_tracking_params(TrackingParams t, const MobileSessionParams& p) {
-  t.conditions = KeyFrameConditionSet::kMobile;
-  t.reference_min_observations = p.reference_min_observations;
-  t.keyframe.ref_ratio = p.ref_ratio;
+  t.conditions = p.keyframe_pacing == MobileSessionParams::KeyFramePacing::kEdge ? KeyFrameConditionSet::kAll
+                                                                                 : KeyFrameConditionSet::kMobile;
   return t;
 }
 }  // namespace
@@ -61,10 +67,17 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   KeyFrameRecord record = to_record(*kf, *map_, created);
   record.seq = next_keyframe_seq_++;
+  const KeyFrameDecisionInput& decision = tracking_.last_keyframe_decision();
+  auto count16 = [](int v) { return static_cast<uint16_t>(std::clamp(v, 0, 65535)); };
+  record.tracked_points = count16(decision.tracked_points);
+  record.reference_points = count16(decision.reference_tracked_points);
+  record.tracked_close_points = count16(decision.tracked_close_points);
+  record.untracked_close_points = count16(decision.untracked_close_points);
   record.created_wall = wall_clock_seconds();
   newest_keyframe_ = record;
   newest_created_ = kf;
   created_ids_.push_back(kf->id());
+  created_set_.insert(kf->id());
   outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
   last_keyframe_stamp_ = kf->stamp();
   keyframe_since_update_ = true;
@@ -82,7 +95,20 @@ TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, 
   std::lock_guard<std::mutex> lock(mutex_);
   last_stamp_ = stamp;
   newest_created_.reset();
+  // Condition 2: the edge's Local-Mapping is idle once it is done with every KeyFrame sent.
+  tracking_.set_mapper_idle(edge_mapped_seq_.load() + 1 >= next_keyframe_seq_);
   TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
+  if (r.new_keyframe && r.diag.reference_kf_id != kNoId) {
+    MobileKeyFrameStats& k = keyframe_stats_;
+    const uint32_t bits = r.diag.keyframe_conditions;
+    ++k.made;
+    k.fewer_than_reference += (bits & kCondFewerThanReference) ? 1 : 0;
+    k.needs_close_points += (bits & kCondNeedsClosePoints) ? 1 : 0;
+    k.weak_tracking += (bits & kCondWeakTracking) ? 1 : 0;
+    k.reference_mobile_made += created_set_.count(r.diag.reference_kf_id) ? 1 : 0;
+    k.inliers_sum += static_cast<uint64_t>(std::max(0, r.inliers));
+    k.reference_points_sum += static_cast<uint64_t>(std::max(0, r.diag.reference_points));
+  }
   retired = recheck_deferred_update(stamp);  // after the frame: an applied update serves the next one
   if (!r.pose_valid) return r;
   if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id())) {
@@ -175,6 +201,11 @@ std::optional<std::pair<uint64_t, UpdateOutcome>> MobileSession::take_deferred_o
 
 void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   const auto start = std::chrono::steady_clock::now();
+  std::vector<uint32_t> tracked_ids, mobile_kfs_before;
+  for (const auto& mp : tracking_.last_frame().map_points)
+    if (mp) tracked_ids.push_back(mp->id());
+  for (const auto& kf : map_->keyframes())
+    if (created_set_.count(kf->id())) mobile_kfs_before.push_back(kf->id());
   install_update(*map_, pending.staged);  // pending.staged now holds the old Local-Map
   database_->clear();
   for (const auto& kf : map_->keyframes())
@@ -182,9 +213,23 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   tracking_.relink_after_map_update();
   keyframe_since_update_ = false;
   note_local_map_size();
+  size_t kept = 0;
+  for (uint32_t id : tracked_ids) kept += map_->map_point(id) ? 1 : 0;
+  ++update_stats_.installed;
+  update_stats_.tracked_points_before += tracked_ids.size();
+  update_stats_.tracked_points_kept += kept;
+  if (!tracked_ids.empty())
+    update_stats_.min_kept_share = std::min(update_stats_.min_kept_share, double(kept) / tracked_ids.size());
+  for (uint32_t id : mobile_kfs_before) update_stats_.mobile_keyframes_dropped += map_->keyframe(id) ? 0 : 1;
   out.keyframes = pending.staged.stats.keyframes;
   out.map_points = pending.staged.stats.map_points;
   out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+void MobileSession::on_edge_progress(uint64_t mapped_seq) {
+  uint64_t seen = edge_mapped_seq_.load();
+  while (mapped_seq > seen && !edge_mapped_seq_.compare_exchange_weak(seen, mapped_seq)) {
+  }
 }
 
 void MobileSession::count_invalid_update() {
@@ -255,6 +300,14 @@ uint64_t MobileSession::keyframes_dropped_by_cap() const {
 std::vector<uint32_t> MobileSession::keyframe_ids_created() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return created_ids_;
+}
+MobileKeyFrameStats MobileSession::keyframe_stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return keyframe_stats_;
+}
+MobileUpdateStats MobileSession::update_stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return update_stats_;
 }
 uint64_t MobileSession::keyframes_sent() const {
   std::lock_guard<std::mutex> lock(mutex_);

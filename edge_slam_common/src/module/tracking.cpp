@@ -233,6 +233,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
 }
 
 bool Tracking::initialize(Frame& frame, std::string& why) {
+  last_decision_ = KeyFrameDecisionInput();
   if (static_cast<int>(frame.size()) < params_.min_initial_keypoints) {
     why = "not initialised: " + std::to_string(frame.size()) + " keypoints (need " +
           std::to_string(params_.min_initial_keypoints) + ")";
@@ -402,6 +403,8 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers, TrackingDiagnost
       ++in.untracked_close_points;
   }
   diag.reference_points = in.reference_tracked_points;
+  diag.reference_kf_id = reference_kf_->id();
+  last_decision_ = in;
   diag.tracked_close = in.tracked_close_points;
   diag.untracked_close = in.untracked_close_points;
   diag.keyframe_conditions = keyframe_condition_bits(params_.keyframe, in);

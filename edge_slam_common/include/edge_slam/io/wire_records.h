@@ -51,6 +51,8 @@ struct KeyFrameRecord {
   FeatureRecord features;
   std::vector<std::pair<uint32_t, uint32_t>> observations;  // (keypoint index, map point id)
   std::vector<NewPointRecord> new_points;
+  // The mobile's KeyFrame decision inputs (mobile -> edge), for conditions 1-2 on the edge.
+  uint16_t tracked_points = 0, reference_points = 0, tracked_close_points = 0, untracked_close_points = 0;
   uint32_t parent_id = kNoId;                                // spanning tree
   std::vector<std::pair<uint32_t, uint32_t>> covisibility;   // (KeyFrame id, shared points)
 };

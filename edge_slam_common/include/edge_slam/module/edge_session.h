@@ -9,11 +9,15 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <deque>
+#include <map>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
 #include "edge_slam/io/wire_records.h"
+#include "edge_slam/module/keyframe_decision.h"
 #include "edge_slam/module/keyframe_receipts.h"
 #include "edge_slam/module/local_mapping.h"
 #include "edge_slam/module/loop_closing.h"
@@ -31,8 +35,12 @@ inline constexpr uint32_t kPointIdGapAfterRestore = 1u << 22;
 
 struct EdgeSessionParams {
   int update_size = 6;                      // KeyFrames per Local-Map update (paper: 6)
-  int min_frames_after_relocalization = 20; // condition 1
-  int max_frames_between_keyframes = 20;    // condition 2 (or Local-Mapping idle)
+  // Conditions 1-2, the same predicates and "tracking:" settings as the tracker's (one rule).
+  KeyFrameDecisionParams keyframe;
+  // Points made by a KeyFrame that conditions 1-2 refused are kept aside (at most this many)
+  // until a later inserted KeyFrame observes them: the mobile goes on tracking them by id, and
+  // without them the edge would lose those observations and triangulate duplicates instead.
+  size_t pending_point_capacity = 50000;
   // Condition 2 paces KeyFrames arriving live. One created more than this many seconds ago
   // (by its created_wall stamp; mobile and edge clocks synchronised) is backlog from a link
   // outage or an edge restart: it is queued for Local-Mapping instead, or the map would lose
@@ -65,6 +73,9 @@ struct EdgeCounters {
   uint64_t invalid = 0, resets = 0, updates_built = 0, relocalization_updates_built = 0;
   uint64_t last_seq = 0;  // highest KeyFrame seq received (acknowledged in updates)
   uint64_t received_seq = 0;  // every seq up to this one received (delivery acknowledgement)
+  uint64_t mapped_seq = 0;    // every seq up to this one decided and, if inserted, through Local-Mapping
+  uint64_t pending_points_adopted = 0;  // points of refused KeyFrames taken in by a later one
+  uint64_t weak_tracking_inserted = 0;  // inserted while Local-Mapping was busy: condition 2's weak clause
 };
 
 class EdgeSession {
@@ -76,6 +87,9 @@ class EdgeSession {
   KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, std::string* error = nullptr);
   // The mobile will never send a seq <= floor again (module/keyframe_delivery.h).
   void skip_keyframes_through(uint64_t floor);
+  // Every KeyFrame seq up to this one has been decided and, when inserted, processed by
+  // Local-Mapping: acknowledged to the mobile as "Local-Mapping idle" for its condition 2.
+  uint64_t mapped_seq() const;
   // Nullopt until a KeyFrame was inserted.
   std::optional<MapUpdateRecord> build_local_map_update(double now);
   std::optional<MapUpdateRecord> build_relocalization_update(const FrameRecord& frame, double now,
@@ -129,6 +143,12 @@ class EdgeSession {
   bool relocalization_sent_ = false;
   uint64_t next_update_seq_ = 1;
   EdgeCounters counters_;
+  mutable std::mutex mapping_seq_mutex_;    // written by the Local-Mapping thread too
+  std::map<uint32_t, uint64_t> in_mapping_;  // inserted KeyFrame id -> seq, until Local-Mapping is done with it
+  // Points of refused KeyFrames, by id, oldest first (bounded by pending_point_capacity).
+  std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> pending_points_;
+  std::deque<uint32_t> pending_order_;
+  void keep_pending_points(const KeyFrameRecord& r);
 };
 
 }  // namespace edge_slam

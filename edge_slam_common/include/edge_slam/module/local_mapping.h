@@ -68,6 +68,8 @@ class LocalMapping {
   // Keyframe condition 2 (Tracking::set_mapper_idle) and the loop closer's input.
   std::function<void(bool idle)> on_idle_changed;
   std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_processed;
+  // Every KeyFrame inserted, once Local-Mapping is done with it (processed, skipped or evicted).
+  std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_done;
   // Ids of the keyframes culled as redundant (the edge accounts for every KeyFrame it accepted).
   std::function<void(const std::vector<uint32_t>&)> on_keyframes_culled;
 

@@ -7,9 +7,11 @@
 // Thread-safe: track(), apply_update() and reset() exclude each other (an update pauses
 // tracking), the outbox is a queue, the rest are snapshots.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <unordered_set>
 
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
@@ -26,13 +28,15 @@ struct MobileSessionParams {
   double relocalization_frame_period = 0.5; // seconds between Frames sent while lost
   size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender
   size_t local_map_cap = 50;                // KeyFrames kept in the Local-Map (oldest dropped beyond)
-  // Condition 4 on the mobile (config edge_slam/mobile_*): a KeyFrame when the frame tracks fewer
-  // than ref_ratio x the reference KeyFrame's points seen by >= reference_min_observations
-  // KeyFrames (an RGB-D observation counts twice). With no Local-Mapping on the mobile to gate
-  // KeyFrames (condition 2 is the edge's) and a frame re-finding only ~80% of the points its
-  // reference just made, the monolithic 0.9 would ask for a KeyFrame at every frame.
-  int reference_min_observations = 2;
-  double ref_ratio = 0.6;
+  // KeyFrame conditions on the mobile (edge_slam/mobile_keyframe_pacing). The paper checks 3-5
+  // here and 1-2 on the edge only (kNone); then the mobile, which has no Local-Mapping to wait
+  // for, asks for a KeyFrame whenever (4) or (5) holds: on fr1 that is 3 frames of 4, each one
+  // uploaded, mostly refused by the edge's condition 2, its points lost with it. kEdge also
+  // checks 1-2 here, (2) reading the edge's Local-Mapping state from its acknowledgements
+  // (KeyFrameAck.mapped_seq: done with every KeyFrame sent): the KeyFrame rate of a monolithic
+  // ORB-SLAM2, whose tracker reads its own mapper's state the same way. The edge still decides.
+  enum class KeyFramePacing { kEdge, kNone };
+  KeyFramePacing keyframe_pacing = KeyFramePacing::kEdge;
   // A periodic update refused by rule (d) only (a KeyFrame was just made) is kept and re-checked
   // on each frame for this many seconds instead of being dropped: bursts of KeyFrames are short,
   // and the next update is a whole period away. 0 = refuse at once (the paper's behaviour).
@@ -43,6 +47,25 @@ class ConfigMap;
 // The "edge_slam:" section of config/slam.yaml (defaults are the paper's); throws with the key
 // and the valid range on a bad value.
 MobileSessionParams load_mobile_session_params(const ConfigMap& cfg);
+
+// Why the mobile made its KeyFrames, and what its Local-Map updates kept of what tracking used:
+// the figures that tell whether the split's KeyFrame rate and update content are right.
+struct MobileKeyFrameStats {
+  uint64_t made = 0;
+  uint64_t fewer_than_reference = 0;  // condition (4) held
+  uint64_t needs_close_points = 0;    // condition (5) held
+  uint64_t weak_tracking = 0;         // condition (2)'s weak-tracking clause held
+  uint64_t reference_mobile_made = 0; // the decision's reference was a KeyFrame this mobile made
+  uint64_t inliers_sum = 0, reference_points_sum = 0;
+};
+struct MobileUpdateStats {
+  uint64_t installed = 0;
+  // Of the map points the last frame tracked before each install, how many the new Local-Map
+  // still holds (by id): what tracking keeps across the swap.
+  uint64_t tracked_points_before = 0, tracked_points_kept = 0;
+  double min_kept_share = 1.0;
+  uint64_t mobile_keyframes_dropped = 0;  // mobile-made KeyFrames the swap removed from the Local-Map
+};
 
 struct UpdateOutcome {
   UpdateDecision decision = UpdateDecision::kAccept;
@@ -65,6 +88,8 @@ class MobileSession {
   // Once per deferred update, after the track() that applied or finally refused it: its seq and outcome.
   std::optional<std::pair<uint64_t, UpdateOutcome>> take_deferred_outcome();
   void count_invalid_update();
+  // The edge's acknowledged Local-Mapping progress (KeyFrameAck.mapped_seq), any thread.
+  void on_edge_progress(uint64_t mapped_seq);
   // A processed frame for relocalization assistance, when lost and the period has elapsed.
   std::optional<FrameRecord> take_relocalization_frame(double now);
   // Paper 4.7.4: queue the newest KeyFrame again with its reset flag (the edge resets on it),
@@ -87,6 +112,8 @@ class MobileSession {
   TrackingCounters tracking_counters() const;
   std::shared_ptr<const Map> local_map() const { return map_; }
   uint64_t keyframes_sent() const;
+  MobileKeyFrameStats keyframe_stats() const;
+  MobileUpdateStats update_stats() const;
   // Every KeyFrame id tracking created, in order (4 bytes each): the delivery accounting.
   std::vector<uint32_t> keyframe_ids_created() const;
 
@@ -117,6 +144,7 @@ class MobileSession {
   double last_keyframe_stamp_ = 0;
   bool keyframe_since_update_ = false;
   uint64_t next_keyframe_seq_ = 1;
+  std::atomic<uint64_t> edge_mapped_seq_{0};
   uint64_t next_frame_seq_ = 1;
   double last_relocalization_frame_time_ = -1e300;
   std::optional<KeyFrameRecord> newest_keyframe_;
@@ -127,6 +155,9 @@ class MobileSession {
   double deferred_since_ = 0;
   std::optional<std::pair<uint64_t, UpdateOutcome>> deferred_outcome_;
   std::vector<uint32_t> created_ids_;
+  std::unordered_set<uint32_t> created_set_;
+  MobileKeyFrameStats keyframe_stats_;
+  MobileUpdateStats update_stats_;
 };
 
 }  // namespace edge_slam

@@ -42,6 +42,7 @@ struct TrackingDiagnostics {
   int local_map_points = 0;       // local-map points projected into the frame
   int matches_before_final = 0;   // frame matches entering the local-map pose optimisation
   int reference_points = 0;       // condition (4)'s comparator: the reference KeyFrame's points
+  uint32_t reference_kf_id = kNoId;  // the reference KeyFrame of the KeyFrame decision
   int tracked_close = 0, untracked_close = 0;  // condition (5)'s counts
   uint32_t keyframe_conditions = 0;  // KeyFrameConditionBits that held (see keyframe_decision.h)
   bool has_prediction = false;    // a constant-velocity prediction existed
@@ -120,6 +121,8 @@ class Tracking {
   const Frame& last_frame() const { return last_frame_; }
   uint32_t reference_keyframe_id() const { return reference_kf_ ? reference_kf_->id() : kNoId; }
   const OrbExtractor& extractor() const { return extractor_; }
+  // What the KeyFrame decision of the latest frame saw (zero before any decision / at initialisation).
+  const KeyFrameDecisionInput& last_keyframe_decision() const { return last_decision_; }
   // Forget everything (map and database included): back to NOT_INITIALIZED.
   void reset();
   // After the map was cleared and rebuilt (a Local-Map update replacing the objects):
@@ -163,6 +166,7 @@ class Tracking {
   uint64_t last_keyframe_frame_id_ = 0;
   bool relocalized_before_ = false;
   uint64_t last_relocalization_frame_id_ = 0;
+  mutable KeyFrameDecisionInput last_decision_;
 
   TrackingCounters counters_;
   std::vector<double> times_ms_;
