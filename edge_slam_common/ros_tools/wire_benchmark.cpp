@@ -32,6 +32,7 @@
 #include "edge_slam/io/vocabulary_io.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/module/mobile_session.h"
+#include "edge_slam/util/wall_clock.h"
 #include "edge_slam/module/tracking_params.h"
 #include "edge_slam/util/timing_stats.h"
 #include "edge_slam_bridge/message_conversion.h"
@@ -137,7 +138,7 @@ int main(int argc, char** argv) {
         kf_ser.push_back(r.serialize_ms);
         kf_deser.push_back(r.deserialize_ms);
         kf_total.push_back(r.serialize_ms + r.deserialize_ms);
-        edge.receive_keyframe(received);
+        edge.receive_keyframe(received, wall_clock_seconds());
       }
       if (i % update_every != update_every - 1) continue;
       edge.wait_until_idle(30.0);

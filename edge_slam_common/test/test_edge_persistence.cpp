@@ -11,6 +11,7 @@
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/edge_session.h"
+#include "edge_slam/util/wall_clock.h"
 #include "support/record_map.h"
 
 namespace edge_slam {
@@ -54,7 +55,7 @@ std::string temp_path(const char* name) {
 void feed(EdgeSession& edge, const Mobile& mobile) {
   for (const KeyFrameRecord& r : mobile.sent) {
     std::string error;
-    EXPECT_EQ(edge.receive_keyframe(r, &error), KeyFrameVerdict::kInserted) << error;
+    EXPECT_EQ(edge.receive_keyframe(r, wall_clock_seconds(), &error), KeyFrameVerdict::kInserted) << error;
     ASSERT_TRUE(edge.wait_until_idle(60.0));
   }
 }
@@ -97,7 +98,7 @@ TEST(EdgePersistence, RestartedEdgeContinuesTheSameMap) {
   EXPECT_EQ(account_after.in_map, account_before.in_map);
   EXPECT_EQ(account_after.inserted.size(), mobile.sent.size());
   // The mobile resends what it has no acknowledgement for: the restarted edge knows it already.
-  EXPECT_EQ(restarted.receive_keyframe(mobile.sent[3]), KeyFrameVerdict::kDuplicate);
+  EXPECT_EQ(restarted.receive_keyframe(mobile.sent[3], wall_clock_seconds()), KeyFrameVerdict::kDuplicate);
   // The KeyFrame database came back too: a Frame equal to KeyFrame 2 finds candidates.
   FrameRecord frame;
   frame.id = 500;
@@ -119,7 +120,7 @@ TEST(EdgePersistence, SavingWhileMappingRunsGivesALoadableFile) {
   int overlapped = 0;
   for (const KeyFrameRecord& r : mobile.sent) {
     std::string error;
-    ASSERT_EQ(edge.receive_keyframe(r, &error), KeyFrameVerdict::kInserted) << error;
+    ASSERT_EQ(edge.receive_keyframe(r, wall_clock_seconds(), &error), KeyFrameVerdict::kInserted) << error;
     while (!edge.mapping_idle()) {
       edge.save_map(path);
       std::rename(path.c_str(), busy_path.c_str());
@@ -157,7 +158,7 @@ TEST(EdgePersistence, CorruptFileKeepsTheRunningMap) {
   EXPECT_EQ(edge.global_map()->num_keyframes(), keyframes);
   EXPECT_THROW(edge.load_map(path), std::runtime_error) << "missing file";
   EXPECT_EQ(edge.global_map()->num_keyframes(), keyframes);
-  EXPECT_EQ(edge.receive_keyframe(mobile.sent[0]), KeyFrameVerdict::kDuplicate) << "the session still works";
+  EXPECT_EQ(edge.receive_keyframe(mobile.sent[0], wall_clock_seconds()), KeyFrameVerdict::kDuplicate) << "the session still works";
 }
 
 }  // namespace

@@ -13,81 +13,19 @@
 #include "edge_slam/sim/scene.h"
 #include "edge_slam/sim/synthetic_camera.h"
 #include "edge_slam/sim/trajectory.h"
+#include "support/split_fixture.h"
+#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 namespace {
 
-constexpr int kFrames = 60;  // every 2nd pose of the sequence: 4 s of walking
-
-struct RenderedSequence {
-  PinholeCamera camera = synthetic_room_camera(30.0);
-  std::vector<cv::Mat> colors, depths;
-  cv::Mat elsewhere_color, elsewhere_depth;  // the far side of the room: never mapped here
-  std::shared_ptr<BowVocabulary> vocabulary = std::make_shared<BowVocabulary>();
-
-  RenderedSequence() {
-    const Scene scene = Scene::build(42, 64.0);  // coarser textures: fast to build
-    const Trajectory trajectory(42);
-    RenderOptions options;
-    options.supersample = 1;
-    std::vector<cv::Mat> descriptors;
-    const OrbExtractor orb;
-    for (int i = 0; i < kFrames; ++i) {
-      const RenderedFrame f = render(scene, camera, trajectory.pose_at(i / 15.0), options);
-      cv::Mat rgb;
-      cv::cvtColor(f.bgr, rgb, cv::COLOR_BGR2RGB);
-      colors.push_back(rgb);
-      depths.push_back(f.depth);
-      if (i % 5 == 0) {
-        cv::Mat gray, desc;
-        std::vector<cv::KeyPoint> keys;
-        cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
-        orb.extract(gray, keys, desc);
-        descriptors.push_back(desc);
-      }
-    }
-    const RenderedFrame far = render(scene, camera, trajectory.pose_at(10.0), options);
-    cv::cvtColor(far.bgr, elsewhere_color, cv::COLOR_BGR2RGB);
-    elsewhere_depth = far.depth;
-    VocabularyParams vp;
-    vp.branching = 8;
-    vp.levels = 3;
-    vocabulary->train(descriptors, vp);
-  }
-};
-
-const RenderedSequence& sequence() {
-  static const RenderedSequence s;
-  return s;
-}
-
-MobileSession make_session(const MobileSessionParams& params = {}) {
-  return MobileSession(sequence().camera, OrbParams(), TrackingParams(), sequence().vocabulary, params,
-                       RgbEncoding::kRgb);
-}
-
-// What the edge would send back: every KeyFrame received so far with all its points.
-MapUpdateRecord update_from(const std::vector<KeyFrameRecord>& sent, const PinholeCamera& camera) {
-  const auto pyramid = std::make_shared<ScalePyramid>(ScalePyramid::make(8, 1.2f));
-  Map global;
-  std::vector<std::shared_ptr<KeyFrame>> kfs;
-  std::vector<std::shared_ptr<MapPoint>> mps;
-  for (const KeyFrameRecord& r : sent) {
-    kfs.push_back(keyframe_from_record(r, camera, pyramid));
-    for (const NewPointRecord& p : r.new_points) mps.push_back(map_point_from_new_point(p, *kfs.back()));
-  }
-  global.rebuild(kfs, mps);
-  MapUpdateRecord u;
-  for (const auto& kf : global.keyframes()) u.keyframes.push_back(to_record(*kf, global));
-  for (const auto& mp : global.map_points()) u.points.push_back(to_record(*mp));
-  return u;
-}
+using namespace split_fixture;
 
 TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
   const RenderedSequence& seq = sequence();
   MobileSessionParams params;
   params.update_retry_window = 0;  // the paper's rule: refused on arrival, no retry
-  MobileSession session = make_session(params);
+  MobileSession session = make_session(paper_pacing(params));
   const int first_half = kFrames - 10;
   for (int i = 0; i < first_half; ++i)
     ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
@@ -123,10 +61,15 @@ TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
 
 TEST(MobileSession, AnUpdateRefusedOnlyByTheKeyFrameRateIsRetriedOnTheNextFrames) {
   const RenderedSequence& seq = sequence();
-  MobileSession session = make_session();  // update_retry_window 0.5 s
+  // update_retry_window 0.5 s. KeyFrames paced by the edge's Local-Mapping: an edge that keeps up
+  // in the first part (a KeyFrame on most frames), then goes quiet, so the frames after the
+  // deferral make none (the next one would be 20 frames later) and the update goes in.
+  MobileSession session = make_session();
   const int first_half = kFrames - 12;
-  for (int i = 0; i < first_half; ++i)
+  for (int i = 0; i < first_half; ++i) {
     ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+    session.on_edge_progress(session.keyframes_sent());
+  }
   std::vector<KeyFrameRecord> sent;
   while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
   MapUpdateRecord first = update_from(sent, seq.camera), second = first;
@@ -160,6 +103,7 @@ TEST(MobileSession, LocalMapStaysWithinItsCapAndEveryKeyFrameIsStillSent) {
   const RenderedSequence& seq = sequence();
   MobileSessionParams params;
   params.local_map_cap = 3;
+  params.keyframe_pacing = MobileSessionParams::KeyFramePacing::kNone;  // many KeyFrames: beyond the cap
   MobileSession session(seq.camera, OrbParams(), TrackingParams(), seq.vocabulary, params, RgbEncoding::kRgb);
   size_t peak = 0;
   for (int i = 0; i < kFrames; ++i) {
@@ -226,7 +170,7 @@ TEST(MobileSession, OffersRelocalizationFramesOnlyWhileLostAndAtTheirPeriod) {
 // Local-Map updates back, the mobile applies them and keeps tracking.
 TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
   const RenderedSequence& seq = sequence();
-  MobileSession mobile = make_session();
+  MobileSession mobile = make_session();  // KeyFrames paced by the edge's Local-Mapping
   EdgeSessionParams edge_params;
   edge_params.loop_closing = false;  // no loop in 4 s of walking
   EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, edge_params);
@@ -235,10 +179,11 @@ TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
   for (int i = 0; i < kFrames; ++i) {
     ASSERT_TRUE(mobile.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
     while (auto r = mobile.outbox().try_pop()) {
-      const KeyFrameVerdict v = edge.receive_keyframe(*r);
+      const KeyFrameVerdict v = edge.receive_keyframe(*r, wall_clock_seconds());
       EXPECT_TRUE(v == KeyFrameVerdict::kInserted || v == KeyFrameVerdict::kRejectedMapperBusy) << to_string(v);
-      EXPECT_EQ(edge.receive_keyframe(*r), KeyFrameVerdict::kDuplicate);
+      EXPECT_EQ(edge.receive_keyframe(*r, wall_clock_seconds()), KeyFrameVerdict::kDuplicate);
     }
+    mobile.on_edge_progress(edge.mapped_seq());  // what the acknowledgements carry
     if (i % 15 == 14) {  // "every second": wait for the mapper, then build and send an update
       ASSERT_TRUE(edge.wait_until_idle(30.0));
       const std::optional<MapUpdateRecord> update = edge.build_local_map_update(i / 15.0);
@@ -270,7 +215,7 @@ TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
   ASSERT_TRUE(mobile.reset());
   const auto reset_record = mobile.outbox().try_pop();
   ASSERT_TRUE(reset_record);
-  EXPECT_EQ(edge.receive_keyframe(*reset_record), KeyFrameVerdict::kReset);
+  EXPECT_EQ(edge.receive_keyframe(*reset_record, wall_clock_seconds()), KeyFrameVerdict::kReset);
   EXPECT_EQ(edge.global_map()->num_keyframes(), 0u);
   EXPECT_TRUE(edge.keyframe_account().inserted.empty());
 }

@@ -159,7 +159,7 @@ class EdgeNodelet : public nodelet::Nodelet {
       keyframe_bytes_ += bytes;
     }
     std::string error;
-    const edge_slam::KeyFrameVerdict v = session_->receive_keyframe(record, &error);
+    const edge_slam::KeyFrameVerdict v = session_->receive_keyframe(record, edge_slam::wall_clock_seconds(), &error);
     log_event("keyframe", record.stamp, record.seq, bytes, latency_ms, -1, edge_slam::to_string(v));
     if (v == edge_slam::KeyFrameVerdict::kInvalid)
       NODELET_ERROR_THROTTLE(5.0, "KeyFrame %u refused: %s", record.id, error.c_str());

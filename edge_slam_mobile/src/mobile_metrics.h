@@ -124,7 +124,8 @@ class MobileMetrics {
         .integer("tracked_points_before", static_cast<long long>(us.tracked_points_before))
         .integer("tracked_points_kept", static_cast<long long>(us.tracked_points_kept))
         .number("min_kept_share", us.min_kept_share)
-        .integer("mobile_keyframes_dropped", static_cast<long long>(us.mobile_keyframes_dropped));
+        .integer("mobile_keyframes_dropped", static_cast<long long>(us.mobile_keyframes_dropped))
+        .integer("keyframes_carried", static_cast<long long>(us.keyframes_carried));
     edge_slam::MetricsJson m;
     m.text("mode", "split").text("dataset", dataset);
     m.object("keyframe_stats", kf_stats).object("update_stats", update_stats);

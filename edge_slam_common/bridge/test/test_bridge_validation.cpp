@@ -44,7 +44,7 @@ TEST(BridgeValidation, GoodMessagesDecode) {
 }
 
 TEST(BridgeValidation, KeyFrameHeaderPoseAndCamera) {
-  kf_rejected([](KfMsg& m) { m.version = 2; }, "version");
+  kf_rejected([](KfMsg& m) { m.version = 1; }, "version");  // the format before the decision counts
   kf_rejected([](KfMsg& m) { m.id = kNoId; }, "reserved");
   kf_rejected([](KfMsg& m) { m.created_wall = NAN; }, "created_wall");
   kf_rejected([](KfMsg& m) { m.pose.position.z = INFINITY; }, "pose");

@@ -28,6 +28,14 @@ const char* to_string(KeyFrameVerdict v) {
 EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   EdgeSessionParams p;
   p.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
+  const std::string content = cfg.get_string("edge_slam/update_content", "covisible");
+  if (content == "newest")
+    p.update_content = EdgeSessionParams::UpdateContent::kNewest;
+  else if (content == "covisible")
+    p.update_content = EdgeSessionParams::UpdateContent::kCovisible;
+  else
+    throw std::runtime_error(cfg.origin() + ": key 'edge_slam/update_content' has value '" + content +
+                             "', expected one of newest, covisible");
   p.keyframe = load_tracking_params(cfg).keyframe;  // conditions 1-2: the tracker's own settings
   p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
@@ -76,7 +84,7 @@ void EdgeSession::stop_modules() {
   in_mapping_.clear();  // what was queued is gone with the modules
 }
 
-KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::string* error) {
+KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double now, std::string* error) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.received;
   counters_.last_seq = std::max(counters_.last_seq, r.seq);
@@ -90,35 +98,29 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, std::stri
     ++counters_.duplicates;
     return KeyFrameVerdict::kDuplicate;
   }
-  // Conditions 1-2 with the tracker's own predicates (keyframe_decision.h), on what the mobile's
-  // decision saw: condition 2 lets a busy Local-Mapping be passed by weak tracking, as in
-  // ORB-SLAM2, so the KeyFrames of a fast turn are not refused exactly when they are needed.
-  KeyFrameDecisionInput in;
-  in.frame_id = r.frame_id;
-  // Condition 1 counts from a relocalization the edge assisted; a KeyFrame made before it is not affected.
-  in.relocalized_before = relocalization_sent_ && r.frame_id >= last_relocalization_frame_id_;
-  in.last_relocalization_frame_id = last_relocalization_frame_id_;
-  in.last_keyframe_frame_id = last_inserted_frame_id_;
-  in.mapper_idle = !any_inserted_ || mapping_->idle();
-  in.tracked_points = r.tracked_points;
-  in.reference_tracked_points = r.reference_points;
-  in.tracked_close_points = r.tracked_close_points;
-  in.untracked_close_points = r.untracked_close_points;
-  if (!relocalization_gap_passed(params_.keyframe, in)) {
-    ++counters_.rejected_condition1;
-    keep_pending_points(r);
-    return KeyFrameVerdict::kRejectedAfterRelocalization;
+  EdgeKeyFrameState state;
+  state.any_inserted = any_inserted_;
+  state.last_inserted_frame_id = last_inserted_frame_id_;
+  state.relocalization_sent = relocalization_sent_;
+  state.last_relocalization_frame_id = last_relocalization_frame_id_;
+  state.mapper_idle = mapping_->idle();
+  switch (decide_edge_keyframe(params_.keyframe, params_.late_keyframe_age, state, r, now)) {
+    case EdgeKeyFrameDecision::kRejectCondition1:
+      ++counters_.rejected_condition1;
+      keep_pending_points(r);
+      return KeyFrameVerdict::kRejectedAfterRelocalization;
+    case EdgeKeyFrameDecision::kRejectCondition2:
+      ++counters_.rejected_condition2;
+      keep_pending_points(r);
+      return KeyFrameVerdict::kRejectedMapperBusy;
+    case EdgeKeyFrameDecision::kInsertLate:
+      ++counters_.late_keyframes;
+      break;
+    case EdgeKeyFrameDecision::kInsert:
+      if (!state.mapper_idle && weak_tracking(params_.keyframe, edge_decision_input(state, r)))
+        ++counters_.weak_tracking_inserted;
+      break;
   }
-  // Condition 2 paces live KeyFrames only: backlog from an outage or a restart is always queued.
-  const bool late = params_.late_keyframe_age > 0 && r.created_wall > 0 &&
-                    wall_clock_seconds() - r.created_wall > params_.late_keyframe_age;
-  if (late) ++counters_.late_keyframes;
-  if (!late && !keyframe_gap_or_mapper_idle(params_.keyframe, in)) {
-    ++counters_.rejected_condition2;
-    keep_pending_points(r);
-    return KeyFrameVerdict::kRejectedMapperBusy;
-  }
-  if (!in.mapper_idle && weak_tracking(params_.keyframe, in)) ++counters_.weak_tracking_inserted;
 
   std::shared_ptr<KeyFrame> kf;
   std::vector<std::shared_ptr<MapPoint>> new_points;
@@ -215,12 +217,22 @@ MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFr
 
 std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now) {
   std::lock_guard<std::mutex> lock(mutex_);
+  const size_t n = static_cast<size_t>(params_.update_size);
   std::vector<std::shared_ptr<KeyFrame>> newest;
-  for (auto it = inserted_ids_.rbegin(); it != inserted_ids_.rend() && newest.size() < static_cast<size_t>(params_.update_size);
-       ++it)
-    if (auto kf = map_->keyframe(*it); kf && !kf->is_bad()) newest.push_back(kf);
+  std::unordered_set<uint32_t> chosen;
+  auto take = [&](const std::shared_ptr<KeyFrame>& kf) {
+    if (kf && !kf->is_bad() && newest.size() < n && chosen.insert(kf->id()).second) newest.push_back(kf);
+  };
+  if (params_.update_content == EdgeSessionParams::UpdateContent::kCovisible) {
+    // The newest KeyFrame and its strongest covisibles; the newest others fill up what is left.
+    for (auto it = inserted_ids_.rbegin(); it != inserted_ids_.rend() && newest.empty(); ++it) take(map_->keyframe(*it));
+    if (!newest.empty())
+      for (uint32_t id : newest.front()->best_covisibles(n)) take(map_->keyframe(id));
+  }
+  for (auto it = inserted_ids_.rbegin(); it != inserted_ids_.rend() && newest.size() < n; ++it)
+    take(map_->keyframe(*it));
   if (newest.empty()) return std::nullopt;
-  std::reverse(newest.begin(), newest.end());
+  std::sort(newest.begin(), newest.end(), [](const auto& a, const auto& b) { return a->id() < b->id(); });
   MapUpdateRecord u = pack_update(newest);
   u.kind = MapUpdateKind::kPeriodic;
   u.seq = next_update_seq_++;

@@ -9,6 +9,7 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
+#include "edge_slam/module/update_carry_over.h"
 #include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
@@ -29,6 +30,7 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   // At least one update's worth, or an accepted update would be cut down at once.
   p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
+  p.update_keeps_newer_keyframes = cfg.get_bool_or("edge_slam/update_keeps_newer_keyframes", true);
   return p;
 }
 
@@ -77,6 +79,7 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   newest_keyframe_ = record;
   newest_created_ = kf;
   created_ids_.push_back(kf->id());
+  created_seqs_.push_back(record.seq);
   created_set_.insert(kf->id());
   outbox_.push(std::move(record));  // never blocks; a full outbox evicts the oldest (counted)
   last_keyframe_stamp_ = kf->stamp();
@@ -141,6 +144,7 @@ UpdateOutcome MobileSession::apply_update(const MapUpdateRecord& update, double 
   // All the linear work first, while tracking runs: tracking pauses only to swap maps.
   auto pending = std::make_shared<PendingUpdate>();
   pending->seq = update.seq;
+  pending->last_keyframe_seq = update.last_keyframe_seq;
   UpdateOutcome out;
   const auto stage_start = std::chrono::steady_clock::now();
   try {
@@ -207,10 +211,19 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   for (const auto& kf : map_->keyframes())
     if (created_set_.count(kf->id())) mobile_kfs_before.push_back(kf->id());
   install_update(*map_, pending.staged);  // pending.staged now holds the old Local-Map
+  const Map& old_map = *pending.staged.map;
+  if (params_.update_keeps_newer_keyframes) {
+    std::vector<uint32_t> newer;  // made after the edge built the update, oldest first
+    for (size_t i = created_ids_.size(); i-- > 0 && created_seqs_[i] > pending.last_keyframe_seq;)
+      newer.insert(newer.begin(), created_ids_[i]);
+    std::lock_guard<std::mutex> lock(map_->update_mutex());
+    const CarryOverResult carried = carry_over_keyframes(*map_, old_map, newer, nullptr);
+    update_stats_.keyframes_carried += carried.keyframes;
+  }
   database_->clear();
   for (const auto& kf : map_->keyframes())
     if (kf->has_bow()) database_->add(kf);
-  tracking_.relink_after_map_update();
+  tracking_.relink_after_map_update(&old_map);
   keyframe_since_update_ = false;
   note_local_map_size();
   size_t kept = 0;

@@ -11,6 +11,7 @@
 #include "edge_slam/match/orb_matcher.h"
 #include "edge_slam/module/frame_pose.h"
 #include "edge_slam/module/keyframe_decision.h"
+#include "edge_slam/module/update_carry_over.h"
 
 namespace edge_slam {
 namespace {
@@ -81,8 +82,9 @@ void Tracking::reset() {
   relocalized_before_ = false;
 }
 
-void Tracking::relink_after_map_update() {
+void Tracking::relink_after_map_update(const Map* old_map) {
   std::lock_guard<std::mutex> lock(map_->update_mutex());
+  const std::shared_ptr<KeyFrame> old_reference = last_frame_.reference_kf;
   for (size_t i = 0; i < last_frame_.map_points.size(); ++i) {
     auto& mp = last_frame_.map_points[i];
     if (mp) mp = map_->map_point(mp->id());
@@ -96,8 +98,22 @@ void Tracking::relink_after_map_update() {
     const auto kfs = map_->keyframes();
     if (!kfs.empty()) reference_kf_ = kfs.back();
   }
-  if (last_frame_tracked_ && last_frame_.reference_kf)
-    last_relative_to_ref_ = last_frame_.T_cw() * last_frame_.reference_kf->T_wc();
+  if (!last_frame_tracked_) return;
+  if (last_frame_.reference_kf && old_map) return;  // predict_last_frame_pose moves it with its reference
+  // The reference is gone (or the old poses are unknown): correct the last frame by the change
+  // at a KeyFrame both maps hold, then anchor it on the new reference.
+  if (old_map && old_reference) {
+    uint32_t anchor = kNoId;
+    if (map_->keyframe(old_reference->parent_id())) anchor = old_reference->parent_id();
+    for (uint32_t id : old_reference->ordered_neighbours())
+      if (anchor == kNoId && map_->keyframe(id) && old_map->keyframe(id)) anchor = id;
+    if (anchor != kNoId) {
+      const Eigen::Isometry3d C = map_correction_at(*map_, *old_map, anchor);
+      last_frame_.set_pose(last_frame_.T_cw() * C.inverse());
+    }
+  }
+  if (!last_frame_.reference_kf) last_frame_.reference_kf = reference_kf_;
+  if (last_frame_.reference_kf) last_relative_to_ref_ = last_frame_.T_cw() * last_frame_.reference_kf->T_wc();
 }
 
 TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {

@@ -17,6 +17,7 @@
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
 #include "edge_slam/io/wire_records.h"
+#include "edge_slam/module/edge_keyframe_decision.h"
 #include "edge_slam/module/keyframe_decision.h"
 #include "edge_slam/module/keyframe_receipts.h"
 #include "edge_slam/module/local_mapping.h"
@@ -35,6 +36,12 @@ inline constexpr uint32_t kPointIdGapAfterRestore = 1u << 22;
 
 struct EdgeSessionParams {
   int update_size = 6;                      // KeyFrames per Local-Map update (paper: 6)
+  // Which KeyFrames a periodic update carries. kNewest: the update_size most recently inserted
+  // (paper 4.5). kCovisible: the newest one and the KeyFrames the Global-Map sees most points in
+  // common with it, i.e. what the camera is looking at now, even when the mobile turned back to
+  // a place it mapped earlier (the newest alone then miss it, and the mobile maps it again).
+  enum class UpdateContent { kNewest, kCovisible };
+  UpdateContent update_content = UpdateContent::kCovisible;
   // Conditions 1-2, the same predicates and "tracking:" settings as the tracker's (one rule).
   KeyFrameDecisionParams keyframe;
   // Points made by a KeyFrame that conditions 1-2 refused are kept aside (at most this many)
@@ -84,7 +91,8 @@ class EdgeSession {
               std::shared_ptr<const BowVocabulary> vocabulary, const EdgeSessionParams& params = {});
   ~EdgeSession();
 
-  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, std::string* error = nullptr);
+  // `now`: wall-clock seconds (condition 2 exempts backlog KeyFrames by their age, edge_keyframe_decision.h).
+  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, double now, std::string* error = nullptr);
   // The mobile will never send a seq <= floor again (module/keyframe_delivery.h).
   void skip_keyframes_through(uint64_t floor);
   // Every KeyFrame seq up to this one has been decided and, when inserted, processed by

@@ -41,6 +41,10 @@ struct MobileSessionParams {
   // on each frame for this many seconds instead of being dropped: bursts of KeyFrames are short,
   // and the next update is a whole period away. 0 = refuse at once (the paper's behaviour).
   double update_retry_window = 0.5;
+  // An update replaces the Local-Map (paper 4.6.1), but it holds only what the edge had when it
+  // started building it: true puts back the mobile's KeyFrames made since (module/update_carry_over.h),
+  // with their points, moved by the update's correction. false = the paper's full replacement.
+  bool update_keeps_newer_keyframes = true;
 };
 
 class ConfigMap;
@@ -65,6 +69,7 @@ struct MobileUpdateStats {
   uint64_t tracked_points_before = 0, tracked_points_kept = 0;
   double min_kept_share = 1.0;
   uint64_t mobile_keyframes_dropped = 0;  // mobile-made KeyFrames the swap removed from the Local-Map
+  uint64_t keyframes_carried = 0;         // mobile KeyFrames newer than the update, put back (update_carry_over.h)
 };
 
 struct UpdateOutcome {
@@ -122,6 +127,7 @@ class MobileSession {
   void note_local_map_size();
   struct PendingUpdate {
     uint64_t seq = 0;
+    uint64_t last_keyframe_seq = 0;  // the newest KeyFrame seq the edge had when it built the update
     StagedUpdate staged;
   };
   TrackingSnapshot snapshot(double now) const;                 // mutex_ held
@@ -155,6 +161,7 @@ class MobileSession {
   double deferred_since_ = 0;
   std::optional<std::pair<uint64_t, UpdateOutcome>> deferred_outcome_;
   std::vector<uint32_t> created_ids_;
+  std::vector<uint64_t> created_seqs_;  // the record seq of each created_ids_ entry
   std::unordered_set<uint32_t> created_set_;
   MobileKeyFrameStats keyframe_stats_;
   MobileUpdateStats update_stats_;

@@ -127,9 +127,12 @@ class Tracking {
   void reset();
   // After the map was cleared and rebuilt (a Local-Map update replacing the objects):
   // re-resolves the last frame's map points and the reference keyframe by id in the new
-  // map, dropping what it no longer contains, so the motion model keeps working.
+  // map, dropping what it no longer contains, so the motion model keeps working. With the map
+  // as it was before (`old_map`), the last frame also moves with the correction the update
+  // applied to its reference KeyFrame (ORB-SLAM2's UpdateLastFrame), so the next prediction
+  // and the rolling-shutter velocity do not take the map correction for camera motion.
   // Takes the map's update mutex; call it after the rebuild released it.
-  void relink_after_map_update();
+  void relink_after_map_update(const Map* old_map = nullptr);
 
  private:
   bool initialize(Frame& frame, std::string& why);

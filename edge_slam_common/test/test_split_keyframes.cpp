@@ -1,0 +1,241 @@
+// The split's KeyFrame and update rules (issue #14), each checked where it lives:
+//   - the edge's conditions 1-2 as a pure function of state, record and time;
+//   - the mobile's condition 2 reading the edge's acknowledged Local-Mapping progress;
+//   - the points of a refused KeyFrame, kept until a later KeyFrame observes them;
+//   - the edge's mapped seq (what the acknowledgement carries);
+//   - a covisible update holding the newest KeyFrame and what it sees;
+//   - an installed update keeping the mobile's newer KeyFrames, moved by the update's
+//     correction, and the last frame moving with it (the next prediction stays right).
+#include <gtest/gtest.h>
+
+#include "edge_slam/module/edge_keyframe_decision.h"
+#include "edge_slam/module/edge_session.h"
+#include "edge_slam/module/mobile_session.h"
+#include "edge_slam/util/wall_clock.h"
+#include "support/split_fixture.h"
+
+namespace edge_slam {
+namespace {
+
+using namespace split_fixture;
+
+KeyFrameRecord decision_record(uint32_t frame_id, int tracked, int reference) {
+  KeyFrameRecord r;
+  r.frame_id = frame_id;
+  r.tracked_points = static_cast<uint16_t>(tracked);
+  r.reference_points = static_cast<uint16_t>(reference);
+  r.tracked_close_points = 200;  // condition (5) does not hold
+  r.untracked_close_points = 10;
+  r.created_wall = 1000.0;
+  return r;
+}
+
+TEST(EdgeKeyFrameDecision, Condition2LetsWeakTrackingPastABusyMapper) {
+  const KeyFrameDecisionParams p;  // 20 frames, weak below 0.25 x the reference
+  EdgeKeyFrameState busy;
+  busy.any_inserted = true;
+  busy.last_inserted_frame_id = 100;
+  busy.mapper_idle = false;
+  const double now = 1000.1;  // 0.1 s after creation: live
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, busy, decision_record(105, 300, 400), now),
+            EdgeKeyFrameDecision::kRejectCondition2);
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, busy, decision_record(105, 90, 400), now), EdgeKeyFrameDecision::kInsert)
+      << "90 < 0.25 x 400: weak tracking";
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, busy, decision_record(120, 300, 400), now), EdgeKeyFrameDecision::kInsert)
+      << "20 frames since the last insertion";
+  EdgeKeyFrameState idle = busy;
+  idle.mapper_idle = true;
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, idle, decision_record(105, 300, 400), now), EdgeKeyFrameDecision::kInsert);
+  // Backlog (created 5 s ago) is taken whatever the mapper does; age 0 paces everything (paper).
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, busy, decision_record(105, 300, 400), 1005.0),
+            EdgeKeyFrameDecision::kInsertLate);
+  EXPECT_EQ(decide_edge_keyframe(p, 0.0, busy, decision_record(105, 300, 400), 1005.0),
+            EdgeKeyFrameDecision::kRejectCondition2);
+}
+
+TEST(EdgeKeyFrameDecision, Condition1CountsFromTheAssistedRelocalization) {
+  const KeyFrameDecisionParams p;  // 20 frames after a relocalization
+  EdgeKeyFrameState s;
+  s.relocalization_sent = true;
+  s.last_relocalization_frame_id = 200;
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, s, decision_record(210, 300, 400), 1000.1),
+            EdgeKeyFrameDecision::kRejectCondition1);
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, s, decision_record(220, 300, 400), 1000.1), EdgeKeyFrameDecision::kInsert);
+  EXPECT_EQ(decide_edge_keyframe(p, 1.0, s, decision_record(150, 300, 400), 1000.1), EdgeKeyFrameDecision::kInsert)
+      << "made before the relocalization: not affected";
+}
+
+int keyframes_made(MobileSession& session, bool edge_keeps_up) {
+  const RenderedSequence& seq = sequence();
+  for (int i = 0; i < kFrames; ++i) {
+    EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+    if (edge_keeps_up) session.on_edge_progress(session.keyframes_sent());  // an edge done at once
+  }
+  return static_cast<int>(session.keyframes_sent());
+}
+
+TEST(MobileKeyFramePacing, TheMobileWaitsForTheEdgesLocalMapping) {
+  MobileSession paper = make_session(paper_pacing());
+  MobileSession silent_edge = make_session();
+  MobileSession fast_edge = make_session();
+  const int n_paper = keyframes_made(paper, false);
+  const int n_silent = keyframes_made(silent_edge, false);
+  const int n_fast = keyframes_made(fast_edge, true);
+  // No acknowledgement: a KeyFrame only every 20 frames (or on weak tracking).
+  EXPECT_LE(n_silent, 1 + kFrames / 20 + 1);
+  EXPECT_GT(n_fast, n_silent) << "an edge that keeps up gets KeyFrames whenever (4)/(5) hold";
+  EXPECT_EQ(n_fast, n_paper) << "with Local-Mapping always idle, condition 2 never holds one back";
+  // Every record tells the edge what the decision saw.
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = fast_edge.outbox().try_pop()) sent.push_back(std::move(*r));
+  ASSERT_GE(sent.size(), 2u);
+  for (size_t i = 1; i < sent.size(); ++i) {
+    EXPECT_GT(sent[i].tracked_points, 50) << "KeyFrame " << sent[i].id;
+    EXPECT_GT(sent[i].reference_points, 0) << "KeyFrame " << sent[i].id;
+  }
+}
+
+// KeyFrame records of a paced mobile over the first frames, with the Local-Mapping feedback of
+// an edge that keeps up.
+std::vector<KeyFrameRecord> recorded_keyframes(int frames) {
+  const RenderedSequence& seq = sequence();
+  MobileSession mobile = make_session(paper_pacing());
+  for (int i = 0; i < frames; ++i) mobile.track(seq.colors[i], seq.depths[i], i / 15.0);
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = mobile.outbox().try_pop()) sent.push_back(std::move(*r));
+  return sent;
+}
+
+TEST(EdgeSessionKeyFrames, PointsOfARefusedKeyFrameJoinWithTheNextOneThatSeesThem) {
+  const RenderedSequence& seq = sequence();
+  std::vector<KeyFrameRecord> sent = recorded_keyframes(30);
+  ASSERT_GE(sent.size(), 3u);
+  EdgeSessionParams params;
+  params.loop_closing = false;
+  params.late_keyframe_age = 0;
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  const double now = wall_clock_seconds();
+  ASSERT_EQ(edge.receive_keyframe(sent[0], now), KeyFrameVerdict::kInserted);
+  ASSERT_TRUE(edge.wait_until_idle(30.0));
+  // Ask the edge to assist a relocalization at the first KeyFrame's view: condition 1 then
+  // refuses KeyFrames made within 20 frames of it.
+  FrameRecord lost;
+  lost.id = sent[1].frame_id;
+  lost.stamp = sent[1].stamp;
+  lost.camera = sent[1].camera;
+  lost.features = sent[1].features;
+  ASSERT_TRUE(edge.build_relocalization_update(lost, now));
+  KeyFrameRecord refused = sent[1];
+  ASSERT_FALSE(refused.new_points.empty());
+  ASSERT_EQ(edge.receive_keyframe(refused, now), KeyFrameVerdict::kRejectedAfterRelocalization);
+  for (const NewPointRecord& p : refused.new_points) EXPECT_FALSE(edge.global_map()->map_point(p.id));
+
+  // A later KeyFrame (past condition 1) that observes the refused one's points by id.
+  KeyFrameRecord later = refused;
+  later.id = sent.back().id + 100;
+  later.seq = sent.back().seq + 1;
+  later.frame_id = refused.frame_id + 25;
+  later.parent_id = sent[0].id;
+  later.new_points.clear();
+  later.covisibility.clear();
+  for (const NewPointRecord& p : refused.new_points) later.observations.emplace_back(p.kp_index, p.id);
+  std::string error;
+  ASSERT_EQ(edge.receive_keyframe(later, now, &error), KeyFrameVerdict::kInserted) << error;
+  size_t adopted = 0;
+  for (const NewPointRecord& p : refused.new_points) adopted += edge.global_map()->map_point(p.id) ? 1 : 0;
+  EXPECT_EQ(adopted, refused.new_points.size());
+  EXPECT_EQ(edge.counters().pending_points_adopted, refused.new_points.size());
+  ASSERT_TRUE(edge.wait_until_idle(30.0));
+}
+
+TEST(EdgeSessionKeyFrames, MappedSeqFollowsLocalMapping) {
+  const RenderedSequence& seq = sequence();
+  const std::vector<KeyFrameRecord> sent = recorded_keyframes(40);
+  ASSERT_GE(sent.size(), 3u);
+  EdgeSessionParams params;
+  params.loop_closing = false;
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  EXPECT_EQ(edge.mapped_seq(), 0u);
+  for (const KeyFrameRecord& r : sent) edge.receive_keyframe(r, wall_clock_seconds());
+  EXPECT_LE(edge.mapped_seq(), edge.counters().received_seq);
+  ASSERT_TRUE(edge.wait_until_idle(30.0));
+  EXPECT_EQ(edge.mapped_seq(), sent.back().seq) << "everything decided and mapped";
+  EXPECT_EQ(edge.counters().mapped_seq, sent.back().seq);
+}
+
+TEST(EdgeSessionUpdates, ACovisibleUpdateHoldsTheNewestKeyFrameAndItsStrongestNeighbours) {
+  const RenderedSequence& seq = sequence();
+  const std::vector<KeyFrameRecord> sent = recorded_keyframes(kFrames);
+  ASSERT_GE(sent.size(), 8u) << "more KeyFrames than an update holds";
+  EdgeSessionParams params;
+  params.loop_closing = false;
+  params.late_keyframe_age = 0;
+  params.update_size = 4;
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  for (const KeyFrameRecord& r : sent) {
+    edge.receive_keyframe(r, wall_clock_seconds());
+    ASSERT_TRUE(edge.wait_until_idle(30.0));  // an idle mapper each time: every KeyFrame inserted
+  }
+  const std::optional<MapUpdateRecord> u = edge.build_local_map_update(1.0);
+  ASSERT_TRUE(u);
+  ASSERT_EQ(u->keyframes.size(), 4u);
+  const auto newest = edge.global_map()->keyframe(sent.back().id);
+  ASSERT_TRUE(newest);
+  std::vector<uint32_t> expected = {newest->id()};
+  for (uint32_t id : newest->best_covisibles(3)) expected.push_back(id);
+  std::sort(expected.begin(), expected.end());
+  std::vector<uint32_t> got;
+  for (const KeyFrameRecord& k : u->keyframes) got.push_back(k.id);
+  EXPECT_EQ(got, expected);
+}
+
+// An update shifted by `shift` (the edge moved the whole map), built from all but the newest
+// KeyFrame: that one was made after the edge started building it.
+MapUpdateRecord shifted_update_without_the_newest(const std::vector<KeyFrameRecord>& sent, const Eigen::Vector3d& shift) {
+  std::vector<KeyFrameRecord> known(sent.begin(), sent.end() - 1);
+  MapUpdateRecord u = update_from(known, sequence().camera);
+  for (KeyFrameRecord& k : u.keyframes) k.T_wc.translation() += shift;
+  for (MapPointRecord& p : u.points) p.position += shift.cast<float>();
+  u.seq = 1;
+  u.last_keyframe_seq = known.back().seq;
+  return u;
+}
+
+TEST(MobileUpdates, KeyFramesNewerThanTheUpdateAreKeptAndMovedWithIt) {
+  const RenderedSequence& seq = sequence();
+  const Eigen::Vector3d shift(0.05, 0, 0);
+  for (const bool keep : {true, false}) {
+    MobileSessionParams params = paper_pacing();
+    params.update_keeps_newer_keyframes = keep;
+    params.update_retry_window = 0;
+    MobileSession session = make_session(params);
+    const int first = 30;
+    for (int i = 0; i < first; ++i) ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid);
+    std::vector<KeyFrameRecord> sent;
+    while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+    ASSERT_GE(sent.size(), 3u);
+    const uint32_t newest = sent.back().id;
+    const Eigen::Vector3d newest_before = session.local_map()->keyframe(newest)->T_wc().translation();
+    const UpdateOutcome out =
+        session.apply_update(shifted_update_without_the_newest(sent, shift), (first - 1) / 15.0 + 1.0);
+    ASSERT_EQ(out.decision, UpdateDecision::kAccept) << to_string(out.decision);
+    const auto kept = session.local_map()->keyframe(newest);
+    if (!keep) {
+      EXPECT_FALSE(kept) << "the paper's full replacement drops it";
+      continue;
+    }
+    ASSERT_TRUE(kept);
+    EXPECT_LT((kept->T_wc().translation() - (newest_before + shift)).norm(), 1e-6) << "moved with the map";
+    for (uint32_t id : kept->map_point_ids())
+      if (id != kNoId) EXPECT_TRUE(session.local_map()->map_point(id)) << "point " << id;
+    EXPECT_EQ(session.update_stats().keyframes_carried, 1u);
+    // The next frame is predicted in the shifted map: the last frame moved with its reference.
+    const TrackingResult next = session.track(seq.colors[first], seq.depths[first], first / 15.0);
+    ASSERT_TRUE(next.pose_valid) << next.message;
+    EXPECT_TRUE(next.diag.has_prediction);
+    EXPECT_LT(next.diag.prediction_error_m, 0.02) << "a prediction in the old map would be 5 cm off";
+  }
+}
+
+}  // namespace
+}  // namespace edge_slam
