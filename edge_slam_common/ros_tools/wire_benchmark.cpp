@@ -32,6 +32,7 @@
 #include "edge_slam/io/vocabulary_io.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/module/mobile_session.h"
+#include "edge_slam/module/slam_config.h"
 #include "edge_slam/util/wall_clock.h"
 #include "edge_slam/module/tracking_params.h"
 #include "edge_slam/util/timing_stats.h"
@@ -111,7 +112,7 @@ int main(int argc, char** argv) {
     TrackingParams tracking = load_tracking_params(cfg);
     tracking.conditions = KeyFrameConditionSet::kMobile;  // as the mobile nodelet: 1-2 run on the edge
     const std::string vocab_path =
-        args.count("vocabulary") ? args["vocabulary"] : cfg.get_string("vocabulary/path", "");
+        args.count("vocabulary") ? args["vocabulary"] : load_runner_settings(cfg).vocabulary_path;
     auto vocabulary = std::make_shared<BowVocabulary>(load_vocabulary(vocab_path));
     const TumDataset dataset = TumDataset::open(dataset_dir);
     const size_t frames = std::min<size_t>(args.count("frames") ? std::stoul(args["frames"]) : 300,

@@ -12,41 +12,12 @@
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/util/wall_clock.h"
-#include "support/record_map.h"
+#include "support/sent_keyframes.h"
 
 namespace edge_slam {
 namespace {
 
-using test_support::SyntheticMap;
-
-struct Mobile {
-  SyntheticMap source;
-  std::shared_ptr<BowVocabulary> vocabulary = std::make_shared<BowVocabulary>();
-  std::vector<KeyFrameRecord> sent;  // what the mobile sent, in order
-
-  Mobile() {
-    std::vector<cv::Mat> descriptors;
-    for (const auto& kf : source.map.keyframes()) descriptors.push_back(kf->features().descriptors);
-    VocabularyParams vp;
-    vp.branching = 10;  // words specific to few KeyFrames: non-zero idf weights
-    vp.levels = 3;
-    vocabulary->train(descriptors, vp);
-    std::unordered_set<uint32_t> known;
-    for (const auto& kf : source.map.keyframes()) {
-      std::unordered_set<uint32_t> created;
-      for (uint32_t id : kf->map_point_ids())
-        if (known.insert(id).second) created.insert(id);
-      KeyFrameRecord r = to_record(*kf, source.map, created);
-      r.seq = sent.size() + 1;
-      sent.push_back(r);
-    }
-  }
-  EdgeSessionParams params() const {
-    EdgeSessionParams p;
-    p.loop_closing = false;
-    return p;
-  }
-};
+using Mobile = test_support::SentKeyFrames;
 
 std::string temp_path(const char* name) {
   return "/tmp/edge_slam_test_" + std::to_string(::getpid()) + "_" + name;

@@ -1,51 +1,28 @@
 // The metrics.json writer and the CSV event log both nodelets and the runner share. The JSON
-// is parsed (nlohmann-json) and the CSV split into fields by its header, never matched as text.
+// is parsed (nlohmann-json) and the CSV split into fields by its header, never matched as text:
+// the typed columns the Python reads (kind, decision, deferred, frame_stamp ...) by name.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <vector>
 
 #include "edge_slam/io/event_log.h"
 #include "edge_slam/io/metrics_json.h"
+#include "support/csv_rows.h"
 
 namespace edge_slam {
 namespace {
 
-std::string read_file(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> split(const std::string& line, char sep) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string field;
-  while (std::getline(in, field, sep)) out.push_back(field);
-  if (!line.empty() && line.back() == sep) out.push_back("");
-  return out;
-}
+using test_support::file_text;
 
 // The data rows of an EventLog file, each as column name -> value (by the file's own header).
-std::vector<std::map<std::string, std::string>> csv_rows(const std::string& text) {
-  std::stringstream in(text);
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line, ',');
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> fields = split(line, ',');
-    EXPECT_EQ(fields.size(), header.size()) << line;
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
-    rows.push_back(row);
-  }
+std::vector<std::map<std::string, std::string>> csv_rows(const std::string& path) {
+  size_t malformed = 0;
+  auto rows = test_support::read_csv_rows(path, &malformed);
+  EXPECT_EQ(malformed, 0u) << "a row with more or fewer fields than the header";
   return rows;
 }
 
@@ -57,7 +34,7 @@ TEST(MetricsJson, WritesNumbersTimingsAndEscapedTextAtomically) {
       .object("updates", inner);
   const std::string path = ::testing::TempDir() + "/metrics_test.json";
   m.write(path);
-  const std::string s = read_file(path);
+  const std::string s = file_text(path);
   nlohmann::json j;
   ASSERT_NO_THROW(j = nlohmann::json::parse(s)) << s;
   ASSERT_TRUE(j.is_object());
@@ -87,10 +64,10 @@ TEST(EventLog, RowsReachTheFileOnlyOnFlushAndCommasInDetailsAreReplaced) {
     r.duration_ms = 12.5;
     r.detail = "accepted, rebuilt";
     log.add(r);
-    EXPECT_EQ(read_file(path), std::string(EventLog::header()) + "\n");
+    EXPECT_EQ(file_text(path), std::string(EventLog::header()) + "\n");
     log.flush();
-    const std::string s = read_file(path);
-    const auto rows = csv_rows(s);
+    const std::string s = file_text(path);
+    const auto rows = csv_rows(path);
     ASSERT_EQ(rows.size(), 1u) << s;
     const auto& row = rows[0];
     EXPECT_EQ(row.at("event"), "update_applied");
@@ -107,6 +84,43 @@ TEST(EventLog, RowsReachTheFileOnlyOnFlushAndCommasInDetailsAreReplaced) {
   EventLog disabled;
   EXPECT_FALSE(disabled.enabled());
   disabled.add(EventRow{});  // a no-op, not a crash
+}
+
+TEST(EventLog, RowsReadBackByColumnNameWithTheTypedColumns) {
+  const std::string path = ::testing::TempDir() + "/events_typed.csv";
+  {
+    EventLog log(path, [] { return 1700000000.25; });
+    EventRow update;
+    update.event = "update";
+    update.data_time = 12.5;
+    update.seq = 4;
+    update.bytes = 0;
+    update.duration_ms = 16.0;
+    update.map_keyframes = 6;
+    update.frame_stamp = 12.466667;
+    update.kind = "periodic";
+    update.decision = "accepted";
+    update.deferred = 1;
+    log.add(update);
+    EventRow verdict;
+    verdict.event = "keyframe";
+    verdict.decision = "condition 2 (busy, too soon)";  // a comma would break the CSV
+    log.add(verdict);
+  }
+  const auto rows = csv_rows(path);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].at("wall_time"), "1700000000.250000") << "stamped by the injected clock";
+  EXPECT_EQ(rows[0].at("event"), "update");
+  EXPECT_EQ(rows[0].at("kind"), "periodic");
+  EXPECT_EQ(rows[0].at("decision"), "accepted");
+  EXPECT_EQ(rows[0].at("deferred"), "1");
+  EXPECT_DOUBLE_EQ(std::stod(rows[0].at("frame_stamp")), 12.466667);
+  EXPECT_DOUBLE_EQ(std::stod(rows[0].at("duration_ms")), 16.0);
+  EXPECT_EQ(rows[0].at("detail"), "");
+  EXPECT_EQ(rows[1].at("decision"), "condition 2 (busy; too soon)");
+  EXPECT_EQ(rows[1].at("deferred"), "0");
+  EXPECT_EQ(rows[1].at("frame_stamp"), "-1.000000") << "does not apply";
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -35,6 +35,7 @@
 #include "edge_slam/io/vocabulary_io.h"
 #include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/module_metrics.h"
+#include "edge_slam/module/slam_config.h"
 #include "edge_slam/module/slam_system.h"
 #include "edge_slam/module/tracking.h"
 #include "edge_slam/module/tracking_params.h"
@@ -109,8 +110,12 @@ int main(int argc, char** argv) {
     if (!file_exists(camera_path))
       throw std::runtime_error("camera calibration '" + camera_path +
                                "' not found (give --camera <yaml>, e.g. config/camera_tum1.yaml)");
-    const PinholeCamera camera = load_camera(camera_path);
+    const ConfigMap camera_cfg = ConfigMap::load(camera_path);
+    const PinholeCamera camera = load_camera(camera_cfg);
+    warn_unknown_keys(camera_cfg);
     const ConfigMap cfg = ConfigMap::load(config_path);
+    check_slam_config(cfg);  // every section's values, and a warning for each key nothing reads
+    const RunnerSettings runner = load_runner_settings(cfg);
     const OrbParams orb = load_orb_params(cfg);
     const TrackingParams tracking_params = load_tracking_params(cfg);
     auto count_arg = [&](const std::string& key, int def, int min) {
@@ -130,7 +135,7 @@ int main(int argc, char** argv) {
     const int max_frames = count_arg("max-frames", -1, 0);
     const int every = count_arg("every", 1, 1);
 
-    std::string vocab_path = args.count("vocabulary") ? args["vocabulary"] : cfg.get_string("vocabulary/path", "");
+    std::string vocab_path = args.count("vocabulary") ? args["vocabulary"] : runner.vocabulary_path;
     if (vocab_path.empty()) throw std::runtime_error("no vocabulary given (--vocabulary or vocabulary/path in " + config_path + ")");
     if (!file_exists(vocab_path)) throw std::runtime_error("vocabulary file '" + vocab_path + "' not found");
     std::cerr << "loading vocabulary " << vocab_path << " ...\n";
@@ -146,7 +151,7 @@ int main(int argc, char** argv) {
     options.local_mapping = !no_mapping;
     options.loop_closing = !no_mapping && !no_loop;
     options.mapping = load_local_mapping_params(cfg);
-    options.final_full_ba_iterations = cfg.get_int_or("loop_closing/final_full_ba_iterations", 0, 0, 1000);
+    options.final_full_ba_iterations = runner.final_full_ba_iterations;
     // Deterministic replay: condition 2 sees a mapper that needs this many frames per KeyFrame.
     if (pace == "sync") options.simulated_mapping_frames = count_arg("sync-mapping-frames", 5, 1);
     // Images come from OpenCV's imread, which always yields BGR.

@@ -1,9 +1,12 @@
 #include "edge_slam/io/config_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "edge_slam/util/log.h"
 
 namespace edge_slam {
 namespace {
@@ -92,7 +95,13 @@ ConfigMap ConfigMap::load(const std::string& path) {
   return parse(ss.str(), path);
 }
 
+bool ConfigMap::has(const std::string& key) const {
+  asked_->keys.insert(key);
+  return values_.count(key) != 0;
+}
+
 const std::string& ConfigMap::raw(const std::string& key) const {
+  asked_->keys.insert(key);
   const auto it = values_.find(key);
   if (it == values_.end())
     throw std::runtime_error(origin_ + ": missing required key '" + key + "'");
@@ -157,6 +166,51 @@ int ConfigMap::get_int_or(const std::string& key, int def, int min, int max) con
 }
 bool ConfigMap::get_bool_or(const std::string& key, bool def) const {
   return has(key) ? get_bool(key) : def;
+}
+
+std::vector<std::string> ConfigMap::unknown_keys() const {
+  std::vector<std::string> unknown;
+  for (const auto& [key, value] : values_)
+    if (!asked_->keys.count(key)) unknown.push_back(key);
+  return unknown;
+}
+
+std::string ConfigMap::nearest_known_key(const std::string& key) const {
+  std::string best;
+  size_t best_distance = std::string::npos;
+  for (const std::string& known : asked_->keys) {
+    const size_t d = edit_distance(key, known);
+    if (d < best_distance) {
+      best_distance = d;
+      best = known;
+    }
+  }
+  // A typo changes a few letters; beyond a third of the key it is another word altogether.
+  return best_distance <= std::max<size_t>(2, key.size() / 3) ? best : "";
+}
+
+void warn_unknown_keys(const ConfigMap& cfg) {
+  for (const std::string& key : cfg.unknown_keys()) {
+    if (!cfg.asked_->warned.insert(key).second) continue;
+    const std::string nearest = cfg.nearest_known_key(key);
+    log_warn(cfg.origin() + ": unknown key '" + key + "' ignored" +
+             (nearest.empty() ? " (no known key is like it)" : " (did you mean '" + nearest + "'?)"));
+  }
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];  // row[i-1][j-1]
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
 }
 
 }  // namespace edge_slam

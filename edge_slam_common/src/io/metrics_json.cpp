@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "edge_slam/io/output_path.h"
+#include "edge_slam/util/rejection_counter.h"
 #include "edge_slam/util/timing_stats.h"
 
 namespace edge_slam {
@@ -77,5 +78,11 @@ std::string MetricsJson::str(bool pretty) const {
 }
 
 void MetricsJson::write(const std::string& path) const { write_file_atomically(path, str(true)); }
+
+MetricsJson counts_by_kind(const RejectionCounter& counter) {
+  MetricsJson j;
+  for (const auto& [kind, n] : counter.by_kind()) j.integer(kind, static_cast<long long>(n));
+  return j;
+}
 
 }  // namespace edge_slam

@@ -8,8 +8,8 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/io/map_snapshot.h"
+#include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/tracking_params.h"
-#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
@@ -27,7 +27,9 @@ const char* to_string(KeyFrameVerdict v) {
 
 EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   EdgeSessionParams p;
-  p.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
+  const LocalMapSize size = load_local_map_size(cfg);
+  p.update_size = size.update_size;
+  p.max_update_keyframes = size.cap;
   const std::string content = cfg.get_string("edge_slam/update_content", "covisible");
   if (content == "newest")
     p.update_content = EdgeSessionParams::UpdateContent::kNewest;
@@ -36,8 +38,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   else
     throw std::runtime_error(cfg.origin() + ": key 'edge_slam/update_content' has value '" + content +
                              "', expected one of newest, covisible");
-  p.keyframe = load_tracking_params(cfg).keyframe;  // conditions 1-2: the tracker's own settings
-  p.max_update_keyframes = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, 6, 100000));
+  p.keyframe = load_keyframe_decision_params(cfg);  // conditions 1-2: the tracker's own settings
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
   return p;
@@ -58,30 +59,33 @@ EdgeSession::EdgeSession(const PinholeCamera& camera, int pyramid_levels, float 
 EdgeSession::~EdgeSession() { stop_modules(); }
 
 void EdgeSession::start_modules() {
-  mapping_ = std::make_unique<LocalMapping>(map_, database_, vocabulary_, params_.mapping);
-  mapping_->on_keyframe_done = [this](const std::shared_ptr<KeyFrame>& kf) {
+  auto modules = std::make_shared<MappingThreads>(map_, database_, vocabulary_, params_.mapping, params_.loop,
+                                                  params_.loop_closing);
+  modules->mapping().on_keyframe_done = [this](const std::shared_ptr<KeyFrame>& kf) {
     std::lock_guard<std::mutex> lock(mapping_seq_mutex_);
     in_mapping_.erase(kf->id());
   };
-  mapping_->on_keyframes_culled = [this](const std::vector<uint32_t>& ids) {
+  modules->mapping().on_keyframes_culled = [this](const std::vector<std::shared_ptr<KeyFrame>>& kfs) {
     std::lock_guard<std::mutex> lock(culled_mutex_);
-    culled_ids_.insert(culled_ids_.end(), ids.begin(), ids.end());
+    for (const auto& kf : kfs) {
+      culled_ids_.push_back(kf->id());
+      culled_links_.push_back(KeyFrameLink{kf->id(), kf->parent_id(), kf->T_cp().inverse()});
+    }
   };
-  if (params_.loop_closing) {
-    loop_ = std::make_unique<LoopClosing>(map_, database_, mapping_.get(), params_.loop);
-    mapping_->on_keyframe_processed = [this](const std::shared_ptr<KeyFrame>& kf) { loop_->insert_keyframe(kf); };
-    loop_->start();
-  }
-  mapping_->start();
+  modules->start();
+  modules_ = std::move(modules);
 }
 
 void EdgeSession::stop_modules() {
-  if (mapping_) mapping_->shutdown(false);
-  if (loop_) loop_->shutdown(false);
-  loop_.reset();
-  mapping_.reset();
+  if (modules_) modules_->stop(false);
+  modules_.reset();
   std::lock_guard<std::mutex> lock(mapping_seq_mutex_);
   in_mapping_.clear();  // what was queued is gone with the modules
+}
+
+std::shared_ptr<MappingThreads> EdgeSession::modules() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return modules_;
 }
 
 KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double now, std::string* error) {
@@ -103,7 +107,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
   state.last_inserted_frame_id = last_inserted_frame_id_;
   state.relocalization_sent = relocalization_sent_;
   state.last_relocalization_frame_id = last_relocalization_frame_id_;
-  state.mapper_idle = mapping_->idle();
+  state.mapper_idle = modules_->mapping().idle();
   switch (decide_edge_keyframe(params_.keyframe, params_.late_keyframe_age, state, r, now)) {
     case EdgeKeyFrameDecision::kRejectCondition1:
       ++counters_.rejected_condition1;
@@ -161,7 +165,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     std::lock_guard<std::mutex> lock(mapping_seq_mutex_);
     in_mapping_[kf->id()] = r.seq;
   }
-  mapping_->insert_keyframe(kf);
+  modules_->mapping().insert_keyframe(kf);
   inserted_ids_.push_back(kf->id());
   last_inserted_frame_id_ = r.frame_id;
   any_inserted_ = true;
@@ -288,6 +292,7 @@ void EdgeSession::reset_locked() {
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_.clear();
+    culled_links_.clear();
   }
   any_inserted_ = false;
   relocalization_sent_ = false;
@@ -348,6 +353,7 @@ void EdgeSession::load_map(const std::string& path) {
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;
+    culled_links_.clear();  // not in the map file: their frames go through the mobile's chain
   }
   any_inserted_ = !map_->keyframes().empty();
   relocalization_sent_ = false;
@@ -357,8 +363,7 @@ void EdgeSession::load_map(const std::string& path) {
 }
 
 bool EdgeSession::wait_until_idle(double timeout_s) const {
-  const bool mapped = mapping_->wait_until_idle(timeout_s);
-  return (loop_ ? loop_->wait_until_idle(timeout_s) : true) && mapped;
+  return modules()->wait_until_idle(timeout_s, 2);
 }
 
 EdgeCounters EdgeSession::counters() const {
@@ -373,15 +378,15 @@ EdgeCounters EdgeSession::counters() const {
   }
   return c;
 }
-// The modules are replaced on a reset (under mutex_), so every reader of them takes mutex_.
+// The modules are replaced on a reset (under mutex_): every reader copies the pointer under mutex_ (modules()).
 std::vector<LoopEvent> EdgeSession::loops() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return loop_ ? loop_->loops() : std::vector<LoopEvent>{};
+  const auto m = modules();
+  return m->loop() ? m->loop()->loops() : std::vector<LoopEvent>{};
 }
 
 ModuleFigures EdgeSession::module_figures() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return collect_module_figures(mapping_.get(), loop_.get());
+  const auto m = modules();
+  return collect_module_figures(&m->mapping(), m->loop());
 }
 
 KeyFrameAccount EdgeSession::keyframe_account() const {
@@ -404,13 +409,20 @@ KeyFrameAccount EdgeSession::keyframe_account() const {
   return a;
 }
 
+EdgeKeyFrames EdgeSession::keyframe_poses() const {
+  EdgeKeyFrames k;
+  for (const auto& kf : map_->keyframes()) k.in_map.push_back(KeyFramePose{kf->id(), kf->stamp(), kf->T_wc()});
+  std::lock_guard<std::mutex> lock(culled_mutex_);
+  k.culled = culled_links_;
+  return k;
+}
+
 int EdgeSession::loops_closed() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return loop_ ? loop_->loops_closed() : 0;
+  const auto m = modules();
+  return m->loop() ? m->loop()->loops_closed() : 0;
 }
 bool EdgeSession::mapping_idle() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return mapping_->idle();
+  return modules()->mapping().idle();
 }
 
 }  // namespace edge_slam

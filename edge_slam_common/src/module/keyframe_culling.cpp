@@ -29,14 +29,14 @@ bool is_redundant_keyframe(const Map& map, const KeyFrame& kf, const KeyFrameCul
 }
 
 int cull_redundant_keyframes(Map& map, KeyFrameDatabase* database, const KeyFrame& kf,
-                             const KeyFrameCullingParams& params, std::vector<uint32_t>* culled_ids) {
+                             const KeyFrameCullingParams& params, std::vector<std::shared_ptr<KeyFrame>>* culled_kfs) {
   int culled = 0;
   for (uint32_t id : kf.ordered_neighbours()) {
     const auto other = map.keyframe(id);
     if (!other || other->is_bad() || other->parent_id() == kNoId || !other->loop_edges().empty()) continue;
     if (is_redundant_keyframe(map, *other, params) && cull_keyframe(map, database, other)) {
       ++culled;
-      if (culled_ids) culled_ids->push_back(id);
+      if (culled_kfs) culled_kfs->push_back(other);
     }
   }
   return culled;

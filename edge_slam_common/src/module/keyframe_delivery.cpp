@@ -15,6 +15,10 @@ DeliveryParams load_delivery_params(const ConfigMap& cfg) {
   return p;
 }
 
+double load_checkpoint_period(const ConfigMap& cfg) {
+  return cfg.get_double_or("delivery/checkpoint_period", 5.0, 0.5, 3600.0);
+}
+
 KeyFrameDelivery::KeyFrameDelivery(const DeliveryParams& params) : params_(params) {
   if (params_.capacity == 0) throw std::invalid_argument("KeyFrame delivery capacity must be >= 1");
   if (!(params_.resend_timeout > 0)) throw std::invalid_argument("KeyFrame resend timeout must be > 0");

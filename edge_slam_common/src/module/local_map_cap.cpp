@@ -3,8 +3,16 @@
 #include <algorithm>
 
 #include "edge_slam/data/map_edit.h"
+#include "edge_slam/io/config_file.h"
 
 namespace edge_slam {
+
+LocalMapSize load_local_map_size(const ConfigMap& cfg) {
+  LocalMapSize s;
+  s.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
+  s.cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, s.update_size, 100000));
+  return s;
+}
 namespace {
 
 void drop_keyframe(Map& map, KeyFrameDatabase* database, const std::shared_ptr<KeyFrame>& kf) {

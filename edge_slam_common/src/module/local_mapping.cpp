@@ -1,12 +1,12 @@
 #include "edge_slam/module/local_mapping.h"
 
 #include <chrono>
-#include <iostream>
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/module/map_ba_bridge.h"
 #include "edge_slam/module/neighbour_fusion.h"
 #include "edge_slam/optimize/local_bundle_adjustment.h"
+#include "edge_slam/util/log.h"
 
 namespace edge_slam {
 namespace {
@@ -48,7 +48,7 @@ void LocalMapping::insert_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   if (auto evicted = queue_.push(kf)) {
     if (on_keyframe_done) on_keyframe_done(*evicted);
     ++completed_;
-    std::cerr << "[mapping] queue full: oldest keyframe dropped\n";
+    log_warn("[mapping] queue full: oldest keyframe dropped");
   }
 }
 
@@ -143,8 +143,8 @@ void LocalMapping::finish_insertion(const std::shared_ptr<KeyFrame>& kf) {
 void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   const auto t0 = Clock::now();
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) {
-    std::cerr << "[mapping] keyframe " << (kf ? std::to_string(kf->id()) : "null")
-              << " was erased while queued: skipped\n";
+    log_info(log_text("[mapping] keyframe ", (kf ? std::to_string(kf->id()) : "null"),
+        " was erased while queued: skipped"));
     {
       std::lock_guard<std::mutex> lock(stats_mutex_);
       ++stats_.keyframes_skipped;
@@ -167,7 +167,7 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     fused = fuse_with_neighbours(*map_, kf);
   }
   bool stop_requested;
-  std::vector<uint32_t> culled_ids;
+  std::vector<std::shared_ptr<KeyFrame>> culled_kfs;
   {
     std::lock_guard<std::mutex> lock(pause_mutex_);
     stop_requested = stop_requested_;
@@ -176,10 +176,10 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     if (params_.local_ba && map_->num_keyframes() > 2) run_local_ba(kf);
     if (params_.cull_keyframes) {
       std::lock_guard<std::mutex> lock(map_->update_mutex());
-      kf_culled = cull_redundant_keyframes(*map_, database_.get(), *kf, params_.keyframe_culling, &culled_ids);
+      kf_culled = cull_redundant_keyframes(*map_, database_.get(), *kf, params_.keyframe_culling, &culled_kfs);
     }
   }
-  if (on_keyframes_culled && !culled_ids.empty()) on_keyframes_culled(culled_ids);
+  if (on_keyframes_culled && !culled_kfs.empty()) on_keyframes_culled(culled_kfs);
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     ++stats_.keyframes_processed;
@@ -217,7 +217,7 @@ void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
   if (result.aborted) ++stats_.local_ba_aborted;
   if (!result.ok) {
     ++stats_.local_ba_failed;
-    std::cerr << "[mapping] local BA on keyframe " << kf->id() << " failed: " << result.message << "\n";
+    log_warn(log_text("[mapping] local BA on keyframe ", kf->id(), " failed: ", result.message));
   }
   local_ba_ms_.push_back(ms_since(t0));
 }

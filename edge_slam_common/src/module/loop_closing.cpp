@@ -2,13 +2,13 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <iostream>
 #include <sstream>
 
 #include "edge_slam/module/full_ba_update.h"
 #include "edge_slam/module/local_mapping.h"
 #include "edge_slam/module/map_ba_bridge.h"
 #include "edge_slam/optimize/full_bundle_adjustment.h"
+#include "edge_slam/util/log.h"
 
 namespace edge_slam {
 namespace {
@@ -50,7 +50,7 @@ void LoopClosing::insert_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   ++submitted_;
   if (queue_.push(kf)) {
     ++completed_;
-    std::cerr << "[loop] queue full: oldest keyframe dropped\n";
+    log_warn("[loop] queue full: oldest keyframe dropped");
   }
 }
 
@@ -75,7 +75,7 @@ bool LoopClosing::wait_until_idle(double timeout_s) const {
 
 void LoopClosing::stop_full_ba() {
   if (!full_ba_thread_.joinable()) return;
-  if (full_ba_running_) std::cerr << "[loop] aborting the running full BA (a new loop arrived)\n";
+  if (full_ba_running_) log_info("[loop] aborting the running full BA (a new loop arrived)");
   abort_full_ba_ = true;
   full_ba_thread_.join();
   abort_full_ba_ = false;
@@ -86,8 +86,8 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) return false;
   const auto candidates = detector_.detect(*map_, *database_, kf);
   if (debug_) {
-    std::cerr << "[loop] KF " << kf->id() << ": min score " << detector_.last_min_score() << ", "
-              << detector_.last_raw_candidates() << " raw candidate(s), " << candidates.size() << " consistent\n";
+    log_info(log_text("[loop] KF ", kf->id(), ": min score ", detector_.last_min_score(), ", ",
+        detector_.last_raw_candidates(), " raw candidate(s), ", candidates.size(), " consistent"));
   }
   LoopMatch match;
   std::string why;
@@ -97,8 +97,8 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     detect_ms_.push_back(ms_since(t0));
   }
   if (!candidates.empty() && !found)
-    std::cerr << "[loop] KF " << kf->id() << ": " << candidates.size() << " consistent candidate(s) failed verification\n"
-              << why;
+    log_info(log_text("[loop] KF ", kf->id(), ": ", candidates.size(),
+        " consistent candidate(s) failed verification\n", why));
   if (!found) return false;
 
   const auto t1 = Clock::now();
@@ -107,8 +107,8 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     local_mapping_->request_stop();
     if (!local_mapping_->wait_until_stopped(params_.mapper_stop_timeout_s)) {
       local_mapping_->release();
-      std::cerr << "[loop] local mapping did not pause in time: loop KF " << kf->id() << " <-> KF "
-                << match.loop_kf->id() << " dropped\n";
+      log_warn(log_text("[loop] local mapping did not pause in time: loop KF ", kf->id(), " <-> KF ",
+          match.loop_kf->id(), " dropped"));
       return false;
     }
   }
@@ -119,14 +119,14 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   if (local_mapping_) local_mapping_->release();
   if (report.group_keyframes == 0) {
-    std::cerr << "[loop] KF " << kf->id() << " <-> KF " << match.loop_kf->id() << " not corrected: " << report.message << "\n";
+    log_info(log_text("[loop] KF ", kf->id(), " <-> KF ", match.loop_kf->id(), " not corrected: ", report.message));
     return false;
   }
   detector_.set_last_loop_keyframe(kf->id());
-  std::cerr << "[loop] loop closed: KF " << kf->id() << " <-> KF " << match.loop_kf->id() << ", " << match.num_matches
-            << " matches (" << report.group_keyframes << " KFs corrected, " << report.fused_points
-            << " points fused, " << report.new_loop_links << " new links, " << report.message << ", cost "
-            << report.graph_initial_cost << " -> " << report.graph_final_cost << ")\n";
+  log_info(log_text("[loop] loop closed: KF ", kf->id(), " <-> KF ", match.loop_kf->id(), ", ", match.num_matches,
+      " matches (", report.group_keyframes, " KFs corrected, ", report.fused_points, " points fused, ",
+      report.new_loop_links, " new links, ", report.message, ", cost ", report.graph_initial_cost, " -> ",
+      report.graph_final_cost, ")"));
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     loops_.push_back(LoopEvent{kf->id(), match.loop_kf->id(), match.num_matches, report});
@@ -153,8 +153,8 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
       problem.keyframes.size() < 2 ? BundleAdjustmentResult{}
                                    : run_full_bundle_adjustment(problem, params_.full_ba_iterations, &abort_full_ba_);
   if (!result.ok || result.aborted || abort_full_ba_) {
-    std::cerr << "[loop] full BA after loop at KF " << loop_kf_id << " "
-              << (result.ok ? "aborted" : "failed: " + result.message) << "; map left as corrected\n";
+    log_warn(log_text("[loop] full BA after loop at KF ", loop_kf_id, " ",
+        (result.ok ? "aborted" : "failed: " + result.message), "; map left as corrected"));
     full_ba_running_ = false;
     return;
   }
@@ -170,9 +170,9 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
   }
   if (local_mapping_) local_mapping_->release();
   const double ms = ms_since(t0);
-  std::cerr << "[loop] full BA after loop at KF " << loop_kf_id << (paused ? " applied: " : " NOT applied: ")
-            << problem.keyframes.size() << " KFs, " << problem.points.size() << " points, " << propagated
-            << " newer KFs propagated, " << static_cast<int>(ms) << " ms\n";
+  log_info(log_text("[loop] full BA after loop at KF ", loop_kf_id, (paused ? " applied: " : " NOT applied: "),
+      problem.keyframes.size(), " KFs, ", problem.points.size(), " points, ", propagated, " newer KFs propagated, ",
+      static_cast<int>(ms), " ms"));
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     ++full_ba_runs_;

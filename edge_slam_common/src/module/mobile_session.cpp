@@ -10,14 +10,15 @@
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/update_carry_over.h"
-#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
 MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   MobileSessionParams p;
   p.policy.initial_time_constraint = cfg.get_double_or("edge_slam/initial_time_constraint", 0.3, 0.0, 60.0);
-  p.policy.update_size = cfg.get_int_or("edge_slam/update_size", 6, 1, 1000);
+  const LocalMapSize size = load_local_map_size(cfg);
+  p.policy.update_size = size.update_size;
+  p.local_map_cap = size.cap;
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
   const std::string pacing = cfg.get_string("edge_slam/mobile_keyframe_pacing", "edge");
   if (pacing == "edge")
@@ -27,8 +28,6 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   else
     throw std::runtime_error(cfg.origin() + ": key 'edge_slam/mobile_keyframe_pacing' has value '" + pacing +
                              "', expected one of edge, none");
-  // At least one update's worth, or an accepted update would be cut down at once.
-  p.local_map_cap = static_cast<size_t>(cfg.get_int_or("edge_slam/local_map_cap", 50, p.policy.update_size, 100000));
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
   p.update_keeps_newer_keyframes = cfg.get_bool_or("edge_slam/update_keeps_newer_keyframes", true);
   return p;
@@ -44,8 +43,9 @@ TrackingParams mobile_tracking_params(TrackingParams t, const MobileSessionParam
 
 MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
                              std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
-                             RgbEncoding encoding)
-    : camera_(camera),
+                             RgbEncoding encoding, WallClock clock)
+    : clock_(std::move(clock)),
+      camera_(camera),
       vocabulary_(vocabulary),
       params_(params),
       pyramid_(std::make_shared<ScalePyramid>(ScalePyramid::make(orb.num_levels, orb.scale_factor))),
@@ -75,7 +75,7 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   record.reference_points = count16(decision.reference_tracked_points);
   record.tracked_close_points = count16(decision.tracked_close_points);
   record.untracked_close_points = count16(decision.untracked_close_points);
-  record.created_wall = wall_clock_seconds();
+  record.created_wall = clock_();
   newest_keyframe_ = record;
   newest_created_ = kf;
   created_ids_.push_back(kf->id());
@@ -114,18 +114,11 @@ TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, 
   }
   retired = recheck_deferred_update(stamp);  // after the frame: an applied update serves the next one
   if (!r.pose_valid) return r;
-  if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id())) {
-    r.reference_kf_id = ref->id();
-    r.T_ref_c = ref->T_cw() * r.T_cw.inverse();
-  }
-  if (newest_created_) {
-    r.keyframe_id = newest_created_->id();
-    r.keyframe_parent_id = newest_created_->parent_id();
-    if (const auto parent = map_->keyframe(r.keyframe_parent_id))
-      r.T_parent_kf = parent->T_cw() * newest_created_->T_wc();
-    else
-      r.keyframe_parent_id = kNoId;
-  }
+  if (const auto ref = map_->keyframe(tracking_.reference_keyframe_id()))
+    r.frame_anchor = FrameAnchor{stamp, ref->id(), ref->T_cw() * r.T_cw.inverse()};
+  if (newest_created_)
+    if (const auto parent = map_->keyframe(newest_created_->parent_id()))
+      r.keyframe_link = KeyFrameLink{newest_created_->id(), parent->id(), parent->T_cw() * newest_created_->T_wc()};
   return r;
 }
 
@@ -258,7 +251,7 @@ std::optional<FrameRecord> MobileSession::take_relocalization_frame(double now) 
   if (!f.features || f.size() == 0) return std::nullopt;
   last_relocalization_frame_time_ = now;
   FrameRecord r = to_record(f, next_frame_seq_++);
-  r.created_wall = wall_clock_seconds();
+  r.created_wall = clock_();
   return r;
 }
 

@@ -14,9 +14,8 @@ OrbParams load_orb_params(const ConfigMap& cfg) {
   return p;
 }
 
-TrackingParams load_tracking_params(const ConfigMap& cfg) {
-  TrackingParams p;
-  KeyFrameDecisionParams& k = p.keyframe;
+KeyFrameDecisionParams load_keyframe_decision_params(const ConfigMap& cfg) {
+  KeyFrameDecisionParams k;
   k.min_frames_after_relocalization =
       cfg.get_int_or("tracking/min_frames_after_relocalization", k.min_frames_after_relocalization, 0, 100000);
   k.max_frames_between_keyframes =
@@ -25,6 +24,12 @@ TrackingParams load_tracking_params(const ConfigMap& cfg) {
   k.ref_ratio = cfg.get_double_or("tracking/ref_ratio", k.ref_ratio, 0.0, 1.0);
   k.close_points_tracked = cfg.get_int_or("tracking/close_points_tracked", k.close_points_tracked, 0, 100000);
   k.close_points_new = cfg.get_int_or("tracking/close_points_new", k.close_points_new, 0, 100000);
+  return k;
+}
+
+TrackingParams load_tracking_params(const ConfigMap& cfg) {
+  TrackingParams p;
+  p.keyframe = load_keyframe_decision_params(cfg);
   p.new_points_per_keyframe =
       cfg.get_int_or("tracking/new_points_per_keyframe", p.new_points_per_keyframe, 0, 100000);
   p.min_initial_keypoints = cfg.get_int_or("tracking/min_initial_keypoints", p.min_initial_keypoints, 1, 100000);

@@ -3,10 +3,18 @@
 // nesting), "#" starts a comment. Values are kept as strings in a flat map keyed
 // "section/key"; typed getters convert and range-check, and throw std::runtime_error
 // naming the key, the offending value and the valid range.
+// The map also records every key a getter asked for (present or not). The loaders are the only
+// list of known keys: once every loader of a file ran, a key of the file none of them asked for
+// is unknown (a typo, or a setting that no longer exists) and warn_unknown_keys() says so,
+// naming the nearest known key. Copies of a map share that record. Not thread-safe: loaders run
+// at start.
 #pragma once
 #include <limits>
 #include <map>
+#include <memory>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace edge_slam {
 
@@ -16,7 +24,7 @@ class ConfigMap {
   static ConfigMap parse(const std::string& text, const std::string& origin = "<string>");
   static ConfigMap load(const std::string& path);  // throws if unreadable or malformed
 
-  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  bool has(const std::string& key) const;
   const std::map<std::string, std::string>& values() const { return values_; }
   void set(const std::string& key, const std::string& value) { values_[key] = value; }
 
@@ -40,10 +48,28 @@ class ConfigMap {
 
   std::string origin() const { return origin_; }
 
+  // Keys of the file no getter asked for (sorted), and the asked-for key nearest to `key` by
+  // edit distance, or "" when none is close enough to be a likely typo of it.
+  std::vector<std::string> unknown_keys() const;
+  std::string nearest_known_key(const std::string& key) const;
+
  private:
+  struct Asked {
+    std::set<std::string> keys;    // every key a getter asked for
+    std::set<std::string> warned;  // unknown keys already warned about
+  };
+  friend void warn_unknown_keys(const ConfigMap& cfg);
   const std::string& raw(const std::string& key) const;
   std::map<std::string, std::string> values_;
   std::string origin_;
+  std::shared_ptr<Asked> asked_ = std::make_shared<Asked>();
 };
+
+// Logs (warning) each unknown key once: "<file>: unknown key 'a/b' ignored (did you mean 'a/c'?)".
+// Call after every loader of the file ran.
+void warn_unknown_keys(const ConfigMap& cfg);
+
+// Levenshtein distance (insertions, deletions, substitutions).
+size_t edit_distance(const std::string& a, const std::string& b);
 
 }  // namespace edge_slam

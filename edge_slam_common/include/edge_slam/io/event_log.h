@@ -1,42 +1,70 @@
-// Per-event measurements as CSV (one row per KeyFrame sent/received, update built/applied,
-// frame tracked ...). Rows are appended to a memory buffer under a short lock and written to
-// the file by flush(), outside the lock, so a slow disk never stalls tracking or mapping.
+// Per-event measurements as CSV, one row per KeyFrame sent/received, update built/applied,
+// frame tracked ... with one typed schema (EventLog::header(); scripts/bench/pipeline_stats.py
+// reads it by column name). Rows are appended to a memory buffer under a short lock and written
+// to the file by flush(), outside the lock, so a slow disk never stalls tracking or mapping.
+//
+// Columns (-1 or empty: does not apply to the row):
+//   wall_time     Unix seconds when the row was made
+//   data_time     message / sensor time (simulated when a bag is replayed)
+//   event         frame, keyframe_sent, frame_sent, update, controller, reset (mobile);
+//                 keyframe, frame, update_sent, loop (edge)
+//   seq, bytes    the message's seq and serialised size
+//   latency_ms    transmit latency (creation or publication on the other side -> received here)
+//   duration_ms   processing: tracking, Local-Map rebuild (an installed update), update construction
+//   map_keyframes KeyFrames in the node's map after the event
+//   frame_stamp   data stamp of the last frame the mobile tracked when the event happened: an
+//                 installed update lies between this frame and the next (where the online
+//                 trajectory may jump)
+//   state         frame rows: the tracking state (OK, LOST, ...)
+//   kind          update / update_sent rows: periodic or relocalization
+//   decision      update rows: the mobile's decision (accepted, controller, ..., deferred, error);
+//                 edge keyframe rows: the verdict; edge frame rows: answered, no candidates, refused;
+//                 malformed: the message did not decode
+//   deferred      update rows: 1 on the second row of an update deferred by eq. (1), its final
+//                 outcome (no transfer: bytes 0); 0 otherwise
+//   keyframes, points   update_sent rows: what the update carries
+//   detail        free text (a controller message, a loop, "reset")
 #pragma once
 #include <fstream>
 #include <mutex>
 #include <string>
 #include <vector>
 
+#include "edge_slam/util/wall_clock.h"
+
 namespace edge_slam {
 
 struct EventRow {
-  double wall_time = 0;     // Unix seconds
-  double data_time = 0;     // message/sensor time (simulated when a bag is replayed)
-  std::string event;        // e.g. keyframe_sent, update_applied
+  double wall_time = 0;  // set by EventLog::add
+  double data_time = 0;
+  std::string event;
   uint64_t seq = 0;
-  size_t bytes = 0;         // serialized message size
-  double latency_ms = -1;   // transmit latency where it applies (-1: none)
-  double duration_ms = -1;  // processing time where it applies (-1: none)
-  long map_keyframes = -1;  // KeyFrames in the node's map after the event (-1: not recorded)
-  std::string detail;       // decision, verdict, kind ... (no commas)
+  size_t bytes = 0;
+  double latency_ms = -1;
+  double duration_ms = -1;
+  long map_keyframes = -1;
+  double frame_stamp = -1;
+  std::string state, kind, decision;
+  int deferred = 0;
+  long keyframes = -1, points = -1;
+  std::string detail;
 };
 
 class EventLog {
  public:
   // An empty path disables the log. Throws when the file cannot be created.
-  explicit EventLog(const std::string& path = "");
+  explicit EventLog(const std::string& path = "", WallClock clock = wall_clock_seconds);
   ~EventLog();
   bool enabled() const { return enabled_; }
+  // Stamps the row with the clock (wall_time); commas in its text become ';'.
   void add(EventRow row);
-  // The same, stamped with the wall clock now.
-  void add(const char* event, double data_time, uint64_t seq, size_t bytes, double latency_ms, double duration_ms,
-           long map_keyframes, std::string detail);
   void flush();  // call from one thread at a time (a timer, the destructor)
 
   static const char* header();
 
  private:
   bool enabled_ = false;
+  WallClock clock_;
   std::ofstream file_;
   std::mutex mutex_;  // guards pending_ only
   std::vector<EventRow> pending_;

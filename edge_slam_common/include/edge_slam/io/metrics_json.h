@@ -8,6 +8,8 @@
 
 namespace edge_slam {
 
+class RejectionCounter;
+
 class MetricsJson {
  public:
   MetricsJson& number(const std::string& key, double value);
@@ -25,5 +27,8 @@ class MetricsJson {
  private:
   std::vector<std::pair<std::string, std::string>> fields_;  // key, JSON value
 };
+
+// {"<kind of problem>": count, ...} of rejected inputs (util/rejection_counter.h).
+MetricsJson counts_by_kind(const RejectionCounter& counter);
 
 }  // namespace edge_slam

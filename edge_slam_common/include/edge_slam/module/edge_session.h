@@ -16,12 +16,12 @@
 
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
+#include "edge_slam/data/trajectory_anchors.h"
 #include "edge_slam/io/wire_records.h"
 #include "edge_slam/module/edge_keyframe_decision.h"
 #include "edge_slam/module/keyframe_decision.h"
 #include "edge_slam/module/keyframe_receipts.h"
-#include "edge_slam/module/local_mapping.h"
-#include "edge_slam/module/loop_closing.h"
+#include "edge_slam/module/mapping_threads.h"
 #include "edge_slam/module/module_metrics.h"
 
 namespace edge_slam {
@@ -118,6 +118,10 @@ class EdgeSession {
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
   KeyFrameAccount keyframe_account() const;
+  // The Global-Map's KeyFrame poses and, for each KeyFrame Local-Mapping culled since the last
+  // reset or load, its parent and pose relative to it then: what the final trajectory is
+  // composed from (data/trajectory_anchors.h). Culled links do not survive load_map.
+  EdgeKeyFrames keyframe_poses() const;
   bool mapping_idle() const;
   // Local-Mapping / Loop-Closing counters and per-call timings since the last reset.
   ModuleFigures module_figures() const;
@@ -134,8 +138,10 @@ class EdgeSession {
   EdgeSessionParams params_;
   std::shared_ptr<Map> map_;
   std::shared_ptr<KeyFrameDatabase> database_;
-  std::unique_ptr<LocalMapping> mapping_;
-  std::unique_ptr<LoopClosing> loop_;
+  // Replaced on a reset and a load (under mutex_); a reader copies the pointer under mutex_ and
+  // may then wait on it without the lock (a stopped module returns from a wait at once).
+  std::shared_ptr<MappingThreads> modules_;
+  std::shared_ptr<MappingThreads> modules() const;
 
   mutable std::mutex mutex_;  // receive / build / reset
   std::unordered_set<uint32_t> seen_ids_;
@@ -143,8 +149,9 @@ class EdgeSession {
   // Every KeyFrame id inserted since the last reset, in insertion order: the newest make the
   // periodic update; all of them are the accounting (4 bytes per KeyFrame on the edge).
   std::vector<uint32_t> inserted_ids_;
-  mutable std::mutex culled_mutex_;        // culled_ids_ is written by the Local-Mapping thread
+  mutable std::mutex culled_mutex_;        // culled_* are written by the Local-Mapping thread
   std::vector<uint32_t> culled_ids_;
+  std::vector<KeyFrameLink> culled_links_;  // of the KeyFrames culled since the last reset or load
   uint64_t last_inserted_frame_id_ = 0;
   bool any_inserted_ = false;
   uint64_t last_relocalization_frame_id_ = 0;

@@ -21,8 +21,10 @@ struct KeyFrameCullingParams {
 bool is_redundant_keyframe(const Map& map, const KeyFrame& kf, const KeyFrameCullingParams& params = {});
 
 // Checks the covisible keyframes of `kf` and culls the redundant ones; returns how many and
-// appends their ids to `culled_ids` when given. The caller holds Map::update_mutex().
+// appends them to `culled` when given (each keeps its parent and T_cp: where it was, relative
+// to the parent, when culled). The caller holds Map::update_mutex().
 int cull_redundant_keyframes(Map& map, KeyFrameDatabase* database, const KeyFrame& kf,
-                             const KeyFrameCullingParams& params = {}, std::vector<uint32_t>* culled_ids = nullptr);
+                             const KeyFrameCullingParams& params = {},
+                             std::vector<std::shared_ptr<KeyFrame>>* culled = nullptr);
 
 }  // namespace edge_slam

@@ -38,6 +38,8 @@ struct DeliveryParams {
 class ConfigMap;
 // The "delivery:" section of config/slam.yaml; throws naming the key and range on a bad value.
 DeliveryParams load_delivery_params(const ConfigMap& cfg);
+// delivery/checkpoint_period: seconds between the edge's checkpoints (split/edge_durability.h).
+double load_checkpoint_period(const ConfigMap& cfg);
 
 struct DeliveryCounters {
   uint64_t added = 0, sent = 0, resent = 0, acknowledged = 0, durable = 0, dropped_by_bound = 0;

@@ -11,6 +11,18 @@
 
 namespace edge_slam {
 
+class ConfigMap;
+
+// The Local-Map's size, which the mobile (cap, eq. (1)'s LMU) and the edge (update size, the
+// relocalization update's cap) must agree on: edge_slam/update_size and edge_slam/local_map_cap.
+struct LocalMapSize {
+  int update_size = 6;  // KeyFrames per periodic update (paper: 6)
+  size_t cap = 50;      // KeyFrames kept in the mobile's Local-Map
+};
+// The one loader of both keys; the cap holds at least one update, or an accepted update would
+// be cut down at once. Throws naming the key and the range.
+LocalMapSize load_local_map_size(const ConfigMap& cfg);
+
 // Drops the oldest KeyFrames (by stamp, then id) until at most `cap` remain, never one of
 // `keep` (the tracker's reference and the newest KeyFrame). Each dropped KeyFrame loses its
 // observations and covisibility links, points left unobserved go, its children become roots.

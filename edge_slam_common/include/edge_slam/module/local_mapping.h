@@ -70,8 +70,9 @@ class LocalMapping {
   std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_processed;
   // Every KeyFrame inserted, once Local-Mapping is done with it (processed, skipped or evicted).
   std::function<void(const std::shared_ptr<KeyFrame>&)> on_keyframe_done;
-  // Ids of the keyframes culled as redundant (the edge accounts for every KeyFrame it accepted).
-  std::function<void(const std::vector<uint32_t>&)> on_keyframes_culled;
+  // The keyframes culled as redundant, out of the map by now (the edge accounts for every
+  // KeyFrame it accepted, and places the frames that referred to them through their parent).
+  std::function<void(const std::vector<std::shared_ptr<KeyFrame>>&)> on_keyframes_culled;
 
   LocalMappingStats stats() const;
   std::vector<double> process_times_ms() const;  // whole keyframe processing

@@ -20,6 +20,7 @@
 #include "edge_slam/module/map_update_policy.h"
 #include "edge_slam/module/tracking.h"
 #include "edge_slam/util/bounded_queue.h"
+#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
@@ -82,10 +83,11 @@ struct UpdateOutcome {
 
 class MobileSession {
  public:
-  // Tracking runs with KeyFrame conditions 3-5 only (1-2 are the edge's, paper 4.4).
+  // Tracking runs with the KeyFrame conditions of params.keyframe_pacing. `clock` stamps the
+  // records' created_wall (the edge's backlog rule and the transmit latency read it).
   MobileSession(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& tracking,
                 std::shared_ptr<const BowVocabulary> vocabulary, const MobileSessionParams& params,
-                RgbEncoding encoding = RgbEncoding::kRgb);
+                RgbEncoding encoding = RgbEncoding::kRgb, WallClock clock = wall_clock_seconds);
 
   TrackingResult track(const cv::Mat& color, const cv::Mat& depth, double stamp);
   // Decision kDeferred: kept and re-checked by track(); take_deferred_outcome() tells how it ended.
@@ -135,6 +137,7 @@ class MobileSession {
   // mutex_ held; returns the update it decided on (to be freed outside the lock), if any
   std::shared_ptr<PendingUpdate> recheck_deferred_update(double now);
 
+  WallClock clock_;
   PinholeCamera camera_;
   std::shared_ptr<const BowVocabulary> vocabulary_;
   MobileSessionParams params_;

@@ -4,7 +4,8 @@
 // keyframes go to the loop closer. Without local mapping it is tracking only.
 // The trajectory is kept ORB-SLAM2 style: every tracked frame's pose relative to its
 // reference keyframe, composed at the end with that keyframe's final pose (through the
-// spanning tree when it was culled), so loop and BA corrections reach every frame.
+// spanning tree when it was culled; data/trajectory_anchors.h), so loop and BA corrections
+// reach every frame.
 #pragma once
 #include <memory>
 #include <mutex>
@@ -12,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "edge_slam/module/local_mapping.h"
-#include "edge_slam/module/loop_closing.h"
+#include "edge_slam/data/trajectory_anchors.h"
+#include "edge_slam/module/mapping_threads.h"
 #include "edge_slam/module/tracking.h"
 
 namespace edge_slam {
@@ -58,31 +59,24 @@ class SlamSystem {
   Tracking& tracking() { return *tracking_; }
   const Map& map() const { return *map_; }
   std::shared_ptr<Map> map_ptr() const { return map_; }
-  const LocalMapping* local_mapping() const { return mapping_.get(); }
-  const LoopClosing* loop_closing() const { return loop_.get(); }
+  const LocalMapping* local_mapping() const { return threads_ ? &threads_->mapping() : nullptr; }
+  const LoopClosing* loop_closing() const { return threads_ ? threads_->loop() : nullptr; }
 
  private:
-  struct FrameRecord {
-    double stamp;
-    std::shared_ptr<KeyFrame> reference;
-    Eigen::Isometry3d T_c_ref;
-  };
   TrackingResult record(const TrackingResult& r, double stamp);
   void simulate_mapper_state();
-  std::shared_ptr<KeyFrame> keyframe_ever(uint32_t id) const;
 
   std::shared_ptr<Map> map_;
   std::shared_ptr<KeyFrameDatabase> database_;
   std::unique_ptr<Tracking> tracking_;
-  std::unique_ptr<LocalMapping> mapping_;
-  std::unique_ptr<LoopClosing> loop_;
+  std::unique_ptr<MappingThreads> threads_;  // null when tracking only
   bool finished_ = false;
   int simulated_mapping_frames_ = 0;
   int frames_since_keyframe_ = 1 << 30;
   int final_full_ba_iterations_ = 0;
 
   mutable std::mutex records_mutex_;
-  std::vector<FrameRecord> frames_;
+  std::vector<FrameAnchor> frames_;
   std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> all_keyframes_;  // culled ones too
 };
 

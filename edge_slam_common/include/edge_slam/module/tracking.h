@@ -12,6 +12,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
 #include "edge_slam/data/rolling_shutter.h"
+#include "edge_slam/data/trajectory_anchors.h"
 #include "edge_slam/feature/orb_extractor.h"
 #include "edge_slam/module/local_map.h"
 #include "edge_slam/module/relocalizer.h"
@@ -65,12 +67,11 @@ struct TrackingResult {
   std::string message;            // why tracking failed / the input was rejected
   TrackingDiagnostics diag;
   // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
-  // optimised KeyFrames, as ORB-SLAM2 saves its trajectory): the reference KeyFrame and the
-  // frame's pose relative to it; for a new KeyFrame, its spanning-tree parent and pose relative to it.
-  uint32_t reference_kf_id = kNoId;
-  Eigen::Isometry3d T_ref_c = Eigen::Isometry3d::Identity();
-  uint32_t keyframe_id = kNoId, keyframe_parent_id = kNoId;
-  Eigen::Isometry3d T_parent_kf = Eigen::Isometry3d::Identity();
+  // optimised KeyFrames, as ORB-SLAM2 saves its trajectory; data/trajectory_anchors.h): the
+  // frame on its reference KeyFrame; for a new KeyFrame, its spanning-tree parent and pose
+  // relative to it.
+  std::optional<FrameAnchor> frame_anchor;
+  std::optional<KeyFrameLink> keyframe_link;
 };
 
 struct TrackingCounters {

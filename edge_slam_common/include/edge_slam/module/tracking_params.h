@@ -30,6 +30,8 @@ struct TrackingParams {
 };
 
 OrbParams load_orb_params(const ConfigMap& cfg);          // "orb:" section, defaults if absent
-TrackingParams load_tracking_params(const ConfigMap& cfg);  // "tracking:" section
+// KeyFrame conditions 1-5 of the "tracking:" section: the tracker's, and the edge's 1-2.
+KeyFrameDecisionParams load_keyframe_decision_params(const ConfigMap& cfg);
+TrackingParams load_tracking_params(const ConfigMap& cfg);  // "tracking:" section (conditions included)
 
 }  // namespace edge_slam

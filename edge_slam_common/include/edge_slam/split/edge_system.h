@@ -1,0 +1,95 @@
+// The edge deployment as one object (the counterpart of split/mobile_system.h): everything the
+// edge nodelet does between receiving bytes and publishing bytes, without ROS. It holds the
+// EdgeSession (Global-Map, Local-Mapping, Loop-Closing, conditions 1-2, the update modules),
+// its durability (split/edge_durability.h), the run files and the figures, and logs through
+// the core log. Wall-clock times come from the injected clock; `data_now` is data time.
+// Thread-safe: message callbacks, timers and services run on several threads.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "edge_slam/feature/orb_params.h"
+#include "edge_slam/io/run_recorder.h"
+#include "edge_slam/module/edge_session.h"
+#include "edge_slam/split/edge_durability.h"
+#include "edge_slam/util/figures.h"
+#include "edge_slam/util/log_throttle.h"
+#include "edge_slam/util/rejection_log.h"
+
+namespace edge_slam {
+
+struct EdgeSystemSettings {
+  PinholeCamera camera;
+  OrbParams orb;  // the pyramid the mobile's features were made with
+  EdgeSessionParams session;
+  DurabilityParams durability;  // checkpoint_period from the config, the file from the deployment
+  bool restore_on_start = true;
+  std::shared_ptr<const BowVocabulary> vocabulary;
+  RunFiles files;  // events, metrics, keyframes
+};
+// The edge's sections of config/slam.yaml (orb, tracking's conditions 1-2, edge_slam, delivery).
+EdgeSystemSettings load_edge_system_settings(const ConfigMap& slam);
+
+class EdgeSystem {
+ public:
+  enum class Topic { kKeyFrames, kFrames };
+
+  // Restores the checkpoint first when asked (durability). Throws when a run file cannot be created.
+  explicit EdgeSystem(EdgeSystemSettings settings, WallClock clock = wall_clock_seconds,
+                      EdgeDurability::BootIds boot_ids = random_boot_id);
+  ~EdgeSystem();  // a last checkpoint and the outputs
+
+  // A message that did not decode or broke the record rules: counted per topic and reason,
+  // logged once per kind, then throttled.
+  void reject(Topic topic, const std::string& why, size_t bytes);
+  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, size_t bytes);
+  void skip_keyframes_through(uint64_t floor) { session_->skip_keyframes_through(floor); }
+  // A relocalization request answered with an update, if there is one to give.
+  std::optional<MapUpdateRecord> answer_frame(const FrameRecord& frame, size_t bytes);
+  std::optional<MapUpdateRecord> periodic_update();
+  // Around publishing an update: the publish stamp it carries, then its figures and CSV row
+  // (construction latency = build start -> serialised and handed over).
+  void stamp_for_publishing(MapUpdateRecord& update) const;
+  void published(const MapUpdateRecord& update, size_t bytes, double data_now);
+
+  KeyFrameAck ack() { return durability_.ack(); }
+  bool mapping_progressed() const { return durability_.mapping_progressed(); }
+  // "loop closed: ..." once per loop: logged, in the CSV, and returned for the loops topic.
+  std::vector<std::string> new_loops(double data_now);
+
+  bool checkpoint(const char* why) { return durability_.checkpoint(why, clock_()); }
+  bool save_map(const std::string& path, std::string* message);
+  bool load_map(const std::string& path, std::string* message);
+
+  Figures stats() const;
+  void write_outputs();  // every second and at shutdown: CSV flushed, metrics.json, the KeyFrames file
+
+  const EdgeSystemSettings& settings() const { return settings_; }
+  const EdgeSession& session() const { return *session_; }
+  const EdgeDurability& durability() const { return durability_; }
+  uint64_t malformed(Topic topic) const;
+  uint64_t malformed() const { return malformed(Topic::kKeyFrames) + malformed(Topic::kFrames); }
+
+ private:
+  EventRow row(const char* event, double data_time) const;
+
+  EdgeSystemSettings settings_;
+  WallClock clock_;
+  RunRecorder recorder_;
+  std::unique_ptr<EdgeSession> session_;
+  EdgeDurability durability_;
+  RejectionLog malformed_keyframes_{"rejecting a malformed message on 'keyframes'",
+                                    "rejecting malformed messages on 'keyframes'"};
+  RejectionLog malformed_frames_{"rejecting a malformed message on 'frames'", "rejecting malformed messages on 'frames'"};
+  LogThrottle invalid_keyframe_log_{5.0}, refused_frame_log_{5.0}, write_error_log_{30.0};
+  size_t loops_announced_ = 0;  // new_loops: the stats timer only
+  mutable std::mutex figures_mutex_;
+  std::vector<double> keyframe_latency_ms_, update_build_ms_;
+  uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
+  std::mutex write_mutex_;  // write_outputs: timer and destructor
+};
+
+}  // namespace edge_slam

@@ -1,0 +1,220 @@
+#include "edge_slam/split/edge_system.h"
+
+#include "edge_slam/io/config_file.h"
+#include "edge_slam/io/metrics_json.h"
+#include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/log.h"
+
+namespace edge_slam {
+
+EdgeSystemSettings load_edge_system_settings(const ConfigMap& slam) {
+  EdgeSystemSettings s;
+  s.orb = load_orb_params(slam);
+  s.session = load_edge_session_params(slam);
+  s.durability.checkpoint_period = load_checkpoint_period(slam);
+  return s;
+}
+
+EdgeSystem::EdgeSystem(EdgeSystemSettings settings, WallClock clock, EdgeDurability::BootIds boot_ids)
+    : settings_(std::move(settings)),
+      clock_(std::move(clock)),
+      recorder_(settings_.files, clock_),
+      session_(std::make_unique<EdgeSession>(settings_.camera, settings_.orb.num_levels, settings_.orb.scale_factor,
+                                             settings_.vocabulary, settings_.session)),
+      durability_(*session_, settings_.durability, std::move(boot_ids)) {
+  if (settings_.restore_on_start) durability_.restore(clock_());
+}
+
+EdgeSystem::~EdgeSystem() {
+  checkpoint("shutdown");
+  write_outputs();
+}
+
+EventRow EdgeSystem::row(const char* event, double data_time) const {
+  EventRow r;
+  r.event = event;
+  r.data_time = data_time;
+  r.map_keyframes = static_cast<long>(session_->global_map()->num_keyframes());
+  return r;
+}
+
+uint64_t EdgeSystem::malformed(Topic topic) const {
+  return (topic == Topic::kKeyFrames ? malformed_keyframes_ : malformed_frames_).total();
+}
+
+void EdgeSystem::reject(Topic topic, const std::string& why, size_t bytes) {
+  (topic == Topic::kKeyFrames ? malformed_keyframes_ : malformed_frames_).reject(why, clock_());
+  EventRow e = row(topic == Topic::kKeyFrames ? "keyframe" : "frame", -1);
+  e.bytes = bytes;
+  e.decision = "malformed";
+  recorder_.event(std::move(e));
+}
+
+KeyFrameVerdict EdgeSystem::receive_keyframe(const KeyFrameRecord& record, size_t bytes) {
+  // Created on the mobile (its wall clock) -> received and deserialised here.
+  const double latency_ms = (clock_() - record.created_wall) * 1e3;
+  {
+    std::lock_guard<std::mutex> lock(figures_mutex_);
+    keyframe_latency_ms_.push_back(latency_ms);
+    keyframe_bytes_ += bytes;
+  }
+  std::string error;
+  const KeyFrameVerdict v = session_->receive_keyframe(record, clock_(), &error);
+  EventRow e = row("keyframe", record.stamp);
+  e.seq = record.seq;
+  e.bytes = bytes;
+  e.latency_ms = latency_ms;
+  e.decision = to_string(v);
+  recorder_.event(std::move(e));
+  if (v == KeyFrameVerdict::kInvalid && invalid_keyframe_log_.allow(clock_()))
+    log_error("KeyFrame " + std::to_string(record.id) + " refused: " + error);
+  else if (v == KeyFrameVerdict::kReset)
+    log_warn("reset requested by the mobile (KeyFrame " + std::to_string(record.id) + "): Global-Map cleared");
+  else
+    log_debug("KeyFrame " + std::to_string(record.id) + ": " + to_string(v));
+  return v;
+}
+
+std::optional<MapUpdateRecord> EdgeSystem::answer_frame(const FrameRecord& frame, size_t bytes) {
+  const double latency_ms = (clock_() - frame.created_wall) * 1e3;
+  std::string error;
+  auto update = session_->build_relocalization_update(frame, clock_(), &error);
+  if (!error.empty() && refused_frame_log_.allow(clock_()))
+    log_error("Frame " + std::to_string(frame.id) + " refused: " + error);
+  EventRow e = row("frame", frame.stamp);
+  e.seq = frame.seq;
+  e.bytes = bytes;
+  e.latency_ms = latency_ms;
+  e.decision = update ? "answered" : (error.empty() ? "no candidates" : "refused");
+  recorder_.event(std::move(e));
+  return update;
+}
+
+std::optional<MapUpdateRecord> EdgeSystem::periodic_update() { return session_->build_local_map_update(clock_()); }
+
+void EdgeSystem::stamp_for_publishing(MapUpdateRecord& update) const { update.publish_stamp = clock_(); }
+
+void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double data_now) {
+  const double build_ms = (clock_() - update.build_start) * 1e3;
+  {
+    std::lock_guard<std::mutex> lock(figures_mutex_);
+    update_build_ms_.push_back(build_ms);
+    update_bytes_ += bytes;
+    ++updates_sent_;
+  }
+  EventRow e = row("update_sent", data_now);
+  e.seq = update.seq;
+  e.bytes = bytes;
+  e.duration_ms = build_ms;
+  e.kind = update.kind == MapUpdateKind::kRelocalization ? "relocalization" : "periodic";
+  e.keyframes = static_cast<long>(update.keyframes.size());
+  e.points = static_cast<long>(update.points.size());
+  recorder_.event(std::move(e));
+}
+
+std::vector<std::string> EdgeSystem::new_loops(double data_now) {
+  const std::vector<LoopEvent> loops = session_->loops();
+  std::vector<std::string> lines;
+  for (size_t i = loops_announced_; i < loops.size(); ++i) {
+    lines.push_back("loop closed: KeyFrame " + std::to_string(loops[i].current_kf_id) + " <-> KeyFrame " +
+                    std::to_string(loops[i].loop_kf_id) + " (" + std::to_string(loops[i].matches) + " matches)");
+    log_info(lines.back());
+    EventRow e = row("loop", data_now);
+    e.seq = loops[i].current_kf_id;
+    e.detail = lines.back();
+    recorder_.event(std::move(e));
+  }
+  loops_announced_ = loops.size();
+  return lines;
+}
+
+bool EdgeSystem::save_map(const std::string& path, std::string* message) {
+  std::string error;
+  const bool ok = durability_.save(path, clock_(), &error);
+  const std::string target = path.empty() ? durability_.params().checkpoint_file : path;
+  *message = ok ? "Global-Map saved to " + target : error;
+  return ok;
+}
+
+bool EdgeSystem::load_map(const std::string& path, std::string* message) {
+  try {
+    durability_.load(path);
+  } catch (const std::exception& e) {
+    *message = e.what();
+    return false;
+  }
+  const std::string source = path.empty() ? durability_.params().checkpoint_file : path;
+  *message = "Global-Map loaded from " + source + ": " + std::to_string(session_->global_map()->num_keyframes()) +
+             " KeyFrames";
+  log_warn(*message);
+  return true;
+}
+
+Figures EdgeSystem::stats() const {
+  const EdgeCounters c = session_->counters();
+  const auto map = session_->global_map();
+  Figures f;
+  f.add("keyframes_received", static_cast<double>(c.received))
+      .add("keyframes_inserted", static_cast<double>(c.inserted))
+      .add("keyframes_duplicate", static_cast<double>(c.duplicates))
+      .add("keyframes_late", static_cast<double>(c.late_keyframes))
+      .add("keyframes_rejected_condition1", static_cast<double>(c.rejected_condition1))
+      .add("keyframes_rejected_condition2", static_cast<double>(c.rejected_condition2))
+      .add("messages_invalid", static_cast<double>(c.invalid + malformed()))
+      .add("keyframes_malformed", static_cast<double>(malformed(Topic::kKeyFrames)))
+      .add("frames_malformed", static_cast<double>(malformed(Topic::kFrames)))
+      .add("resets", static_cast<double>(c.resets))
+      .add("global_map_keyframes", static_cast<double>(map->num_keyframes()))
+      .add("global_map_points", static_cast<double>(map->num_map_points()))
+      .add("loops_closed", static_cast<double>(session_->loops().size()))
+      .add("mapping_idle", session_->mapping_idle() ? 1.0 : 0.0)
+      .add("keyframe_received_seq", static_cast<double>(c.received_seq))
+      .add("keyframe_durable_seq", static_cast<double>(durability_.durable_seq()))
+      .add("checkpoints", static_cast<double>(durability_.checkpoints()));
+  std::lock_guard<std::mutex> lock(figures_mutex_);
+  f.add("updates_sent", static_cast<double>(updates_sent_))
+      .add("update_bytes_sent", static_cast<double>(update_bytes_))
+      .add("keyframe_bytes_received", static_cast<double>(keyframe_bytes_))
+      .add("keyframe_latency_ms_last", keyframe_latency_ms_.empty() ? 0.0 : keyframe_latency_ms_.back())
+      .add("update_build_ms_last", update_build_ms_.empty() ? 0.0 : update_build_ms_.back());
+  return f;
+}
+
+void EdgeSystem::write_outputs() {
+  recorder_.flush();
+  if (!recorder_.writes_metrics() && !recorder_.writes_keyframes()) return;
+  std::lock_guard<std::mutex> write_lock(write_mutex_);
+  const EdgeCounters c = session_->counters();
+  MetricsJson keyframes, m;
+  keyframes.integer("received", static_cast<long long>(c.received))
+      .integer("inserted", static_cast<long long>(c.inserted))
+      .integer("duplicates", static_cast<long long>(c.duplicates))
+      .integer("rejected_condition1", static_cast<long long>(c.rejected_condition1))
+      .integer("rejected_condition2", static_cast<long long>(c.rejected_condition2))
+      .integer("invalid", static_cast<long long>(c.invalid + malformed()))
+      .integer("resets", static_cast<long long>(c.resets));
+  const auto map = session_->global_map();
+  m.text("node", "edge")
+      .object("keyframes", keyframes)
+      .integer("global_map_keyframes", static_cast<long long>(map->num_keyframes()))
+      .integer("global_map_points", static_cast<long long>(map->num_map_points()))
+      .object("malformed_keyframes", counts_by_kind(malformed_keyframes_.counter()))
+      .object("malformed_frames", counts_by_kind(malformed_frames_.counter()));
+  add_module_figures(m, session_->module_figures());
+  {
+    std::lock_guard<std::mutex> lock(figures_mutex_);
+    m.integer("updates_sent", static_cast<long long>(updates_sent_))
+        .integer("update_bytes_sent", static_cast<long long>(update_bytes_))
+        .integer("keyframe_bytes_received", static_cast<long long>(keyframe_bytes_))
+        .timing("keyframe_transmit_ms", keyframe_latency_ms_)
+        .timing("update_build_ms", update_build_ms_);
+  }
+  try {
+    recorder_.metrics(m);
+    if (recorder_.writes_keyframes()) recorder_.keyframes(session_->keyframe_poses());
+  } catch (const std::exception& e) {
+    if (write_error_log_.allow(clock_())) log_error(e.what());
+  }
+}
+
+}  // namespace edge_slam
