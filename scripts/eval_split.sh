@@ -3,7 +3,8 @@
 # on the dataset replayed by rosbag at real time; writes into $OUT the same metrics.json as the
 # monolithic runner plus the split's own figures, the final trajectory (frames re-anchored on the
 # edge's final KeyFrames, as monolithic/ORB-SLAM2 save theirs), the as-tracked trajectory, the
-# Local-Map size over time and both sides' per-event CSVs. Called by scripts/eval.sh.
+# Local-Map size over time and both sides' per-event CSVs (read by column name: io/event_log.h).
+# Called by scripts/eval.sh.
 #   env: DATASET (TUM folder) OUT CAMERA VOCABULARY (resolved by eval.sh);
 #        SLAM_CONFIG (default config/slam.yaml);
 #        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences)
@@ -69,7 +70,8 @@ kill -INT $launch_pid; wait $launch_pid 2>/dev/null || true
 launch_pid=""
 
 [[ -f "$OUT/mobile_metrics.json" && -f "$OUT/edge_metrics.json" ]] || die "the nodelets wrote no metrics: see $OUT/launch.log"
-.venv/bin/python3 scripts/split_trajectory.py "$OUT/mobile_anchors.txt" "$OUT/edge_keyframes.txt" "$OUT/trajectory.txt"
+.ws/devel/lib/edge_slam_common/compose_trajectory --anchors "$OUT/mobile_anchors.txt" \
+  --keyframes "$OUT/edge_keyframes.txt" --out "$OUT/trajectory.txt"
 
 # One metrics.json: the mobile's figures on top (same keys as monolithic), the edge's module
 # timings beside them, the edge's own figures under "edge", the Local-Map size over time.

@@ -5,6 +5,7 @@
 #pragma once
 #include <cv_bridge/cv_bridge.h>
 #include <edge_slam/camera/pinhole_camera.h>
+#include <edge_slam/split/image_problem.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
@@ -13,8 +14,7 @@
 
 namespace edge_slam_mobile {
 
-enum class ImageProblem { kNone, kStamp, kEncoding, kSize, kDepth };
-inline constexpr int kImageProblemKinds = 5;
+using edge_slam::ImageProblem;
 
 struct ImageCheck {
   bool ok = false;

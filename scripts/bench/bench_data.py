@@ -80,25 +80,25 @@ def stats(values):
             "p95": float(np.percentile(v, 95)), "max": float(v.max())}
 
 
-# The mobile flushes mobile_anchors.txt every 30 lines (one F line per published pose, plus a K
-# line per KeyFrame), so while it runs up to 29 lines may still be in its buffer (30 lines are
-# well below the stream's buffer: what reached the file ends with a whole line).
-ANCHOR_LINES_UNFLUSHED = 29
+POSES_WITHOUT_ANCHOR = 4
 
 
 def split_files_complete(out, pose_stamps, global_map_ids):
-    """True once a split run's files hold what the nodelets can have written by now: an F anchor
-    for every pose the mobile published (data stamps, s, in order) except the unflushed tail,
-    and, in edge_keyframes.txt (rewritten atomically every second), exactly the Global-Map
-    KeyFrame ids the edge reports."""
+    """True once a split run's files hold what the nodelets have done: an F anchor for every pose
+    the mobile published (data stamps, s; the mobile flushes its anchors every second) and, in
+    edge_keyframes.txt (rewritten atomically every second), exactly the Global-Map KeyFrame ids
+    the edge reports (its untagged lines; 'C' lines are culled KeyFrames, io/anchors_file.h)."""
     from edge_slam_common.tum import InputError, read_records
     try:
         anchors = read_records(os.path.join(out, "mobile_anchors.txt"), {"F": 10, "K": 10})
-        keyframes = read_records(os.path.join(out, "edge_keyframes.txt"), {None: 9})
+        keyframes = read_records(os.path.join(out, "edge_keyframes.txt"), {None: 9, "C": 10})
     except InputError:  # not written yet
         return False
     frames = [float(w[1]) for _, w in anchors if w[0] == "F"]
     if not pose_stamps or not frames:
         return False
-    must_have = sorted(pose_stamps)[max(0, len(pose_stamps) - 1 - ANCHOR_LINES_UNFLUSHED)]
-    return max(frames) >= must_have - 1e-6 and {int(w[0]) for _, w in keyframes} == set(global_map_ids)
+    in_map = {int(w[0]) for _, w in keyframes if w[0] != "C"}
+    # A pose whose reference KeyFrame had just left the Local-Map has no F line: a few of the
+    # newest poses may lack one.
+    must_have = sorted(pose_stamps)[max(0, len(pose_stamps) - 1 - POSES_WITHOUT_ANCHOR)]
+    return max(frames) >= must_have - 1e-6 and in_map == set(global_map_ids)

@@ -20,6 +20,7 @@ import subprocess
 import sys
 import time
 
+from .final_trajectory import compose
 from .netns import NamespacePair
 from .ros_util import edge_settled_key, wait_until_steady
 
@@ -125,12 +126,14 @@ def main():
     # Final trajectory as in `make eval MODE=split` (frames re-anchored on the edge's final
     # KeyFrames) when both sides wrote their files; the recorded odometry otherwise.
     anchors, kfs = (os.path.join(args.out, f) for f in ("mobile_anchors.txt", "edge_keyframes.txt"))
-    tool = os.path.join(ROOT, "scripts", "split_trajectory.py")  # run by the venv python (scipy)
-    if os.path.isfile(tool) and os.path.isfile(anchors) and os.path.isfile(kfs):
+    if os.path.isfile(anchors) and os.path.isfile(kfs):
         os.replace(os.path.join(args.out, "trajectory.txt"), os.path.join(args.out, "trajectory_odometry.txt"))
-        made = subprocess.run([os.path.join(ROOT, ".venv", "bin", "python3"), tool, anchors, kfs, os.path.join(args.out, "trajectory.txt")],
-                              stdout=log, stderr=subprocess.STDOUT).returncode == 0
-        counters["trajectory"] = "final (split_trajectory.py)" if made else "none (split_trajectory.py failed)"
+        try:
+            compose(anchors, kfs, os.path.join(args.out, "trajectory.txt"))
+            counters["trajectory"] = "final (compose_trajectory)"
+        except RuntimeError as e:
+            log.write(f"compose_trajectory: {e}\n")
+            counters["trajectory"] = "none (compose_trajectory failed)"
     else:
         counters["trajectory"] = "tracking odometry"
     json.dump(counters, open(os.path.join(args.out, "counters.json"), "w"), indent=2)

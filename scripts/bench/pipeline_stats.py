@@ -1,16 +1,14 @@
 """Map-update pipeline figures (paper Table 4) from a split run's mobile_stats.csv / edge_stats.csv.
 
-Both CSVs hold one row per event, columns
-  wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail
-(-1 = not applicable). Events used here:
-  mobile  frame (duration = tracking ms), keyframe_sent, frame_sent,
-          update: one row when an update arrives (bytes = its wire size > 0, latency = edge
-          publish -> received, duration = Local-Map rebuild when accepted, detail = "<kind>
-          <decision>"), and for an update deferred by eq. (1) a second row with the same seq when
-          it is finally applied or refused (bytes 0, latency -1, detail "<kind> <decision>
-          after_deferral")
-  edge    keyframe (latency = mobile creation -> received, detail = verdict), frame,
-          update_sent (duration = construction, from build start to publish)
+Both CSVs hold one row per event with the schema of edge_slam_common/include/edge_slam/io/event_log.h,
+read here by column name (-1 or empty = not applicable). Events used here:
+  mobile  frame (duration = tracking ms, state = tracking state), keyframe_sent, frame_sent,
+          update: one row when an update arrives (bytes = its wire size, latency = edge publish ->
+          received, duration = Local-Map rebuild when installed, kind, decision, deferred 0), and
+          for an update deferred by eq. (1) a second row with the same seq when it is finally
+          applied or refused (deferred 1, bytes 0); frame_stamp = the last frame tracked before it
+  edge    keyframe (latency = mobile creation -> received, decision = verdict), frame,
+          update_sent (duration = construction, from build start to publish; kind, keyframes, points)
 """
 import os
 
@@ -56,7 +54,7 @@ def summarize(run_dir):
     kf_edge = ev(edge, "keyframe")
     verdicts = {}
     for r in kf_edge:
-        verdicts[r.get("detail") or "?"] = verdicts.get(r.get("detail") or "?", 0) + 1
+        verdicts[r.get("decision") or "?"] = verdicts.get(r.get("decision") or "?", 0) + 1
     return {
         "keyframe_transmit_ms": stats(_values(kf_edge, "latency_ms")),
         "update_construction_ms": stats(_values(sent_periodic, "duration_ms")),
@@ -79,21 +77,19 @@ def summarize(run_dir):
         "updates_deferred": len(updates) - len(arrived),
         "update_decisions": decisions,
         "frames_processed": len(ev(mobile, "frame")),
-        "frames_tracked": sum(1 for r in ev(mobile, "frame") if r.get("detail") == "OK"),
-        "frames_lost": sum(1 for r in ev(mobile, "frame") if r.get("detail") == "LOST"),
+        "frames_tracked": sum(1 for r in ev(mobile, "frame") if r.get("state") == "OK"),
+        "frames_lost": sum(1 for r in ev(mobile, "frame") if r.get("state") == "LOST"),
         "local_map_keyframes_max": int(_values(ev(mobile, "frame"), "map_keyframes").max())
         if _values(ev(mobile, "frame"), "map_keyframes").size else None,
     }
 
 
-# ---- the "update" rows, read by column (seq, bytes, duration_ms) wherever the CSV allows it. The
-# update's kind and decision are only in the free-text detail ("<kind> <decision> [after_deferral]");
-# the mobile should emit them as columns of their own (kind, decision, deferred).
+# ---- the "update" rows, read by column: kind, decision, deferred, frame_stamp.
 
 def update_arrivals(updates):
-    """One row per update message received: the arrival rows carry its wire size (bytes > 0); the
-    second row of a deferred update (bytes 0) is its outcome, not another update."""
-    return [r for r in updates if _values([r], "bytes").size and float(r["bytes"]) > 0]
+    """One row per update message received: the second row of a deferred update (deferred = 1)
+    is its outcome, not another update."""
+    return [r for r in updates if r.get("deferred") != "1"]
 
 
 def final_update_rows(updates):
@@ -105,20 +101,25 @@ def final_update_rows(updates):
 
 
 def update_kind(row):
-    words = (row.get("detail") or "").split()
-    return words[0] if words else "?"
+    return row.get("kind") or "?"
 
 
 def update_decision(row):
-    words = (row.get("detail") or "").split()
-    return words[1] if len(words) > 1 else "?"
+    return row.get("decision") or "?"
 
 
 def applied_update_stamps(csv_path):
     """Data stamps (s) at which the mobile installed an update (rows with a rebuild duration),
-    from a mobile_stats.csv path: where the online trajectory may jump."""
+    from a mobile_stats.csv path: where the online trajectory may jump. The stamp is that of the
+    last frame tracked before the install (frame_stamp): the jump lies between it and the next."""
     rows = [r for r in read_csv(csv_path) or [] if r.get("event") == "update"]
-    return [float(r["data_time"]) for r in rows if _values([r], "duration_ms").size]
+    stamps = []
+    for r in rows:
+        if not _values([r], "duration_ms").size:
+            continue
+        frame = _values([r], "frame_stamp")
+        stamps.append(float(frame[0]) if frame.size else float(r["data_time"]))
+    return stamps
 
 
 def tracking_series(run_dir):

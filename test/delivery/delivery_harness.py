@@ -20,6 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
 from bench import ate  # noqa: E402  (evo: the delivery tests run in the venv python)
 from bench.bench_data import split_files_complete  # noqa: E402
+from bench.final_trajectory import final_trajectory  # noqa: E402
 from bench.netns import NamespacePair  # noqa: E402
 from bench.ros_util import edge_settled_key, rosservice_call, wait_until_steady  # noqa: E402
 
@@ -212,15 +213,15 @@ class SplitRun:
         return pose_seconds(os.path.join(self.out, 'odometry.txt'))
 
     def final_ate_m(self, edge_status):
-        """ATE of the final trajectory (split_trajectory.py) and the share of frames anchored, once
-        the nodelets' files hold every pose and the Global-Map the edge reports (edge_status)."""
-        import split_trajectory
+        """ATE of the final trajectory (compose_trajectory, bench.final_trajectory) and the share of
+        frames anchored, once the nodelets' files hold every pose and the Global-Map the edge
+        reports (edge_status)."""
         self.wait(lambda: split_files_complete(self.out, self.odometry_stamps(), edge_status['global_map_ids']), 30,
                   'the anchors and Global-Map KeyFrame files to be complete')
-        final, missing, total = split_trajectory.final_trajectory(os.path.join(self.out, 'mobile_anchors.txt'),
-                                                                  os.path.join(self.out, 'edge_keyframes.txt'))
+        final, missing, total = final_trajectory(os.path.join(self.out, 'mobile_anchors.txt'),
+                                                 os.path.join(self.out, 'edge_keyframes.txt'))
         stamps = [s for s, _ in final]
-        xyz = [T[:3, 3] for _, T in final]
+        xyz = [p[:3] for _, p in final]
         return ate.ate_stats(GROUNDTRUTH, ate.trajectory(stamps, xyz))['ate_rmse_m'], (total - missing) / max(total, 1)
 
 

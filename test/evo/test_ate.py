@@ -82,9 +82,11 @@ class AteTest(unittest.TestCase):
             write_tum(gt, T, GT_XYZ, GT_Q)
             write_tum(traj, T, moved(est), GT_Q)
             with open(csv, 'w') as f:
-                f.write('wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail\n')
-                f.write('1.0,104.01,update,1,1000,3.0,12.0,6,periodic accepted\n')      # installed: counts
-                f.write('2.0,106.01,update,2,1000,3.0,-1,6,periodic controller\n')     # refused: no install
+                f.write('wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,frame_stamp,'
+                        'state,kind,decision,deferred,keyframes,points,detail\n')
+                # installed after the frame of 104.01 s (the bag's clock had gone on to 104.2): counts there
+                f.write('1.0,104.2,update,1,1000,3.0,12.0,6,104.01,,periodic,accepted,0,-1,-1,\n')
+                f.write('2.0,106.2,update,2,1000,3.0,-1,6,106.01,,periodic,controller,0,-1,-1,\n')  # refused
             r = subprocess.run([sys.executable, '-m', 'bench.ate', gt, traj, '--json', '--update-stamps-from', csv],
                                cwd=SCRIPTS, capture_output=True, text=True)
             self.assertEqual(r.returncode, 0, r.stderr)

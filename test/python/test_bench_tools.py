@@ -120,34 +120,53 @@ class CpuPercentTest(unittest.TestCase):
 
 
 class PipelineStatsTest(unittest.TestCase):
+    # The event CSV's columns (edge_slam_common/include/edge_slam/io/event_log.h), in a shuffled
+    # order: the readers go by name, never by position.
+    HEADER = ['event', 'wall_time', 'data_time', 'seq', 'bytes', 'latency_ms', 'duration_ms', 'map_keyframes',
+              'frame_stamp', 'state', 'kind', 'decision', 'deferred', 'keyframes', 'points', 'detail']
 
     def write(self, path, rows):
         with open(path, 'w') as f:
-            f.write('wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,map_keyframes,detail\n')
+            w = csv.DictWriter(f, fieldnames=self.HEADER, restval='-1')
+            w.writeheader()
             for r in rows:
-                f.write(','.join(str(v) for v in r) + '\n')
+                w.writerow(r)
+
+    def update(self, wall, data, seq, bytes, latency, rebuild, frame_stamp, decision, deferred=0, kind='periodic'):
+        return dict(event='update', wall_time=wall, data_time=data, seq=seq, bytes=bytes, latency_ms=latency,
+                    duration_ms=rebuild, map_keyframes=6, frame_stamp=frame_stamp, state='', kind=kind,
+                    decision=decision, deferred=deferred, detail='')
 
     def test_figures_from_event_rows(self):
         with tempfile.TemporaryDirectory() as d:
             self.write(os.path.join(d, 'mobile_stats.csv'), [
-                (10.0, 1.0, 'frame', 1, 0, -1, 20.0, 3, 'OK'),
-                (10.1, 1.1, 'keyframe_sent', 1, 45000, -1, -1, -1, ''),
-                (15.0, 6.0, 'update', 1, 400000, 30.0, 12.0, 6, 'periodic accepted'),
-                (20.0, 11.0, 'update', 2, 400000, 40.0, -1, 6, 'periodic controller'),
-                (25.0, 16.0, 'update', 3, 400000, 50.0, 14.0, 6, 'periodic accepted'),
+                dict(event='frame', wall_time=10.0, data_time=1.0, seq=1, bytes=0, duration_ms=20.0, map_keyframes=3,
+                     frame_stamp=1.0, state='OK', kind='', decision='', deferred=0, detail=''),
+                dict(event='keyframe_sent', wall_time=10.1, data_time=1.1, seq=1, bytes=45000, state='', kind='',
+                     decision='', deferred=0, detail=''),
+                self.update(15.0, 6.0, 1, 400000, 30.0, 12.0, 5.95, 'accepted'),
+                self.update(20.0, 11.0, 2, 400000, 40.0, -1, 10.95, 'controller'),
+                self.update(25.0, 16.0, 3, 400000, 50.0, 14.0, 15.95, 'accepted'),
                 # a deferred update: its arrival, then its outcome (same seq, no transfer)
-                (30.0, 21.0, 'update', 4, 400000, 45.0, -1, 6, 'periodic deferred'),
-                (30.5, 21.5, 'update', 4, 0, -1, 16.0, 6, 'periodic accepted after_deferral')])
+                self.update(30.0, 21.0, 4, 400000, 45.0, -1, 20.95, 'deferred'),
+                self.update(30.5, 21.5, 4, 0, -1, 16.0, 21.45, 'accepted', deferred=1)])
             self.write(os.path.join(d, 'edge_stats.csv'), [
-                (10.2, 1.1, 'keyframe', 1, 45000, 8.0, -1, -1, 'inserted'),
-                (15.0, 6.0, 'update_sent', 1, 400000, -1, 5.0, -1, 'periodic 6 KFs 900 points'),
-                (20.0, 11.0, 'update_sent', 2, 400000, -1, 7.0, -1, 'periodic 6 KFs 900 points'),
-                (25.0, 16.0, 'update_sent', 3, 400000, -1, 9.0, -1, 'periodic 6 KFs 900 points')])
+                dict(event='keyframe', wall_time=10.2, data_time=1.1, seq=1, bytes=45000, latency_ms=8.0, state='',
+                     kind='', decision='inserted', deferred=0, detail=''),
+                dict(event='update_sent', wall_time=15.0, data_time=6.0, seq=1, bytes=400000, duration_ms=5.0,
+                     state='', kind='periodic', decision='', deferred=0, keyframes=6, points=900, detail=''),
+                dict(event='update_sent', wall_time=20.0, data_time=11.0, seq=2, bytes=400000, duration_ms=7.0,
+                     state='', kind='periodic', decision='', deferred=0, keyframes=6, points=900, detail=''),
+                dict(event='update_sent', wall_time=25.0, data_time=16.0, seq=3, bytes=400000, duration_ms=9.0,
+                     state='', kind='periodic', decision='', deferred=0, keyframes=6, points=900, detail=''),
+                dict(event='update_sent', wall_time=26.0, data_time=17.0, seq=4, bytes=900000, duration_ms=30.0,
+                     state='', kind='relocalization', decision='', deferred=0, keyframes=20, points=3000, detail='')])
             s = pipeline_stats.summarize(d)
             t, ms = pipeline_stats.tracking_series(d)
             applied = pipeline_stats.applied_update_stamps(os.path.join(d, 'mobile_stats.csv'))
         self.assertEqual(s['keyframe_transmit_ms']['median'], 8.0)
         self.assertEqual(s['update_construction_ms']['median'], 7.0)
+        self.assertEqual(s['relocalization_update_construction_ms']['median'], 30.0)
         self.assertEqual(s['update_publish_interval_s']['median'], 5.0)
         self.assertEqual(s['update_acceptance_interval_s']['median'], 7.75)  # 10 s, then 5.5 s
         self.assertEqual(s['local_map_rebuild_ms']['median'], 14.0)
@@ -155,8 +174,11 @@ class PipelineStatsTest(unittest.TestCase):
         self.assertEqual((s['updates_received'], s['updates_accepted'], s['updates_deferred']), (4, 3, 1))
         self.assertEqual(s['update_decisions'], {'periodic accepted': 3, 'periodic controller': 1})
         self.assertEqual(s['update_delivery_ms']['count'], 4)
+        self.assertEqual(s['edge_keyframe_verdicts'], {'inserted': 1})
+        self.assertEqual((s['frames_tracked'], s['frames_lost']), (1, 0))
         self.assertEqual(pipeline_stats.rebuild_median(s), 14.0)
-        self.assertEqual(applied, [6.0, 16.0, 21.5])
+        # each install at the stamp of the last frame tracked before it
+        self.assertEqual(applied, [5.95, 15.95, 21.45])
         self.assertEqual(list(ms), [20.0])
 
     def test_no_csv_no_figures(self):

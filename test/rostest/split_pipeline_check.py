@@ -29,10 +29,10 @@ class SplitPipelineTest(unittest.TestCase):
         online_rmse, matched = ate_rmse(system.poses, gt)
         out = rospy.get_param('~out')
         system.wait_for_run_files(out)  # the nodelets rewrite their files every second
-        import split_trajectory
-        final, missing, total = split_trajectory.final_trajectory(os.path.join(out, 'mobile_anchors.txt'),
-                                                                  os.path.join(out, 'edge_keyframes.txt'))
-        rmse, _ = ate_rmse([(t, T[0, 3], T[1, 3], T[2, 3]) for t, T in final], gt)
+        from bench.final_trajectory import final_trajectory
+        final, missing, total = final_trajectory(os.path.join(out, 'mobile_anchors.txt'),
+                                                 os.path.join(out, 'edge_keyframes.txt'))
+        rmse, _ = ate_rmse([(t,) + tuple(p[:3]) for t, p in final], gt)
         print('split run files in %s' % out, file=sys.stderr)
         mobile = system.mobile_status()
         edge = system.edge_status()

@@ -2,7 +2,9 @@
 // Global-Map: map points as a PointCloud2 (x, y, z float32), KeyFrames as markers.
 #pragma once
 #include <edge_slam/data/keyframe.h>
+#include <edge_slam/data/map.h>
 #include <edge_slam/data/map_point.h>
+#include <ros/publisher.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -74,5 +76,16 @@ inline visualization_msgs::MarkerArray keyframe_markers(const std::vector<std::s
   out.markers.push_back(tree);
   return out;
 }
+
+// Both displays of a map, each built only when someone is watching it (the Global-Map is large).
+struct MapDisplay {
+  ros::Publisher cloud, markers;
+  std::string frame_id, ns;
+  float r = 1, g = 1, b = 1;
+  void publish(const Map& map, const ros::Time& stamp) const {
+    if (cloud.getNumSubscribers() > 0) cloud.publish(to_point_cloud(map.map_points(), frame_id, stamp));
+    if (markers.getNumSubscribers() > 0) markers.publish(keyframe_markers(map.keyframes(), frame_id, stamp, ns, r, g, b));
+  }
+};
 
 }  // namespace edge_slam
