@@ -8,19 +8,12 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/module/slam_config.h"
 #include "edge_slam/util/log.h"
+#include "support/captured_log.h"
 
 namespace edge_slam {
 namespace {
 
-// Collects what the core logs while it lives.
-struct CapturedLog {
-  std::vector<std::pair<LogLevel, std::string>> lines;
-  LogSink previous;
-  CapturedLog() {
-    previous = set_log_sink([this](LogLevel level, const std::string& m) { lines.emplace_back(level, m); });
-  }
-  ~CapturedLog() { set_log_sink(previous); }
-};
+using test_support::CapturedLog;
 
 TEST(EditDistance, CountsInsertionsDeletionsAndSubstitutions) {
   EXPECT_EQ(edit_distance("", ""), 0u);

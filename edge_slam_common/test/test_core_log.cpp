@@ -6,19 +6,13 @@
 #include <vector>
 
 #include "edge_slam/util/log.h"
+#include "support/captured_log.h"
 #include "edge_slam/util/rejection_log.h"
 
 namespace edge_slam {
 namespace {
 
-struct CapturedLog {
-  std::vector<std::pair<LogLevel, std::string>> lines;
-  LogSink previous;
-  CapturedLog() {
-    previous = set_log_sink([this](LogLevel level, const std::string& m) { lines.emplace_back(level, m); });
-  }
-  ~CapturedLog() { set_log_sink(previous); }
-};
+using test_support::CapturedLog;
 
 TEST(CoreLog, TheSinkGetsEachLineWithItsLevel) {
   CapturedLog log;

@@ -6,15 +6,13 @@
 
 #include "edge_slam/module/keyframe_delivery.h"
 #include "edge_slam/module/keyframe_receipts.h"
+#include "support/delivery_records.h"
 
 namespace edge_slam {
 namespace {
 
 KeyFrameDelivery::RecordPtr record(uint64_t seq) {
-  auto r = std::make_shared<KeyFrameRecord>();
-  r->seq = seq;
-  r->id = static_cast<uint32_t>(100 + seq);
-  return r;
+  return std::make_shared<KeyFrameRecord>(test_support::delivery_record(seq));
 }
 
 std::vector<uint64_t> seqs(const std::vector<KeyFrameDelivery::RecordPtr>& rs) {
@@ -24,12 +22,7 @@ std::vector<uint64_t> seqs(const std::vector<KeyFrameDelivery::RecordPtr>& rs) {
 }
 
 KeyFrameAck ack(uint64_t boot, uint64_t received, uint64_t durable, bool persistent = true) {
-  KeyFrameAck a;
-  a.boot_id = boot;
-  a.received_seq = received;
-  a.durable_seq = durable;
-  a.persistent = persistent;
-  return a;
+  return test_support::delivery_ack(boot, received, durable, persistent);
 }
 
 TEST(KeyFrameDelivery, NewRecordsGoOutOnceInOrder) {

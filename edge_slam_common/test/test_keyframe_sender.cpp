@@ -4,16 +4,14 @@
 #include <gtest/gtest.h>
 
 #include "edge_slam/split/keyframe_sender.h"
+#include "support/delivery_records.h"
 
 namespace edge_slam {
 namespace {
 
-KeyFrameRecord record(uint64_t seq) {
-  KeyFrameRecord r;
-  r.seq = seq;
-  r.id = static_cast<uint32_t>(100 + seq);
-  return r;
-}
+using test_support::delivery_ack;
+
+KeyFrameRecord record(uint64_t seq) { return test_support::delivery_record(seq); }
 
 std::vector<uint64_t> seqs(const KeyFrameSender::Due& due) {
   std::vector<uint64_t> out;
@@ -21,14 +19,7 @@ std::vector<uint64_t> seqs(const KeyFrameSender::Due& due) {
   return out;
 }
 
-KeyFrameAck ack(uint64_t boot, uint64_t received, uint64_t durable) {
-  KeyFrameAck a;
-  a.boot_id = boot;
-  a.received_seq = received;
-  a.durable_seq = durable;
-  a.persistent = true;
-  return a;
-}
+KeyFrameAck ack(uint64_t boot, uint64_t received, uint64_t durable) { return delivery_ack(boot, received, durable); }
 
 constexpr std::chrono::milliseconds kNoWait{0};
 

@@ -21,19 +21,10 @@ Eigen::Isometry3d pose(double x, double y, double z, double yaw) {
 }
 
 FrameAnchor frame(double stamp, uint32_t reference, const Eigen::Isometry3d& T_ref_c) {
-  FrameAnchor f;
-  f.stamp = stamp;
-  f.reference_id = reference;
-  f.T_ref_c = T_ref_c;
-  return f;
+  return FrameAnchor{stamp, reference, T_ref_c};
 }
-
 KeyFrameLink link(uint32_t id, uint32_t parent, const Eigen::Isometry3d& T_parent_kf) {
-  KeyFrameLink l;
-  l.id = id;
-  l.parent_id = parent;
-  l.T_parent_kf = T_parent_kf;
-  return l;
+  return KeyFrameLink{id, parent, T_parent_kf};
 }
 
 TEST(TrajectoryComposer, FrameFollowsItsKeyFramesFinalPose) {
