@@ -216,6 +216,9 @@ std::optional<std::pair<uint64_t, UpdateOutcome>> MobileSession::take_deferred_o
 void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<uint32_t> tracked_ids, mobile_kfs_before;
+  const uint32_t reference_id = tracking_.reference_keyframe_id();
+  const auto reference_before = map_->keyframe(reference_id);
+  const Eigen::Vector3d centre_before = reference_before ? reference_before->camera_center() : Eigen::Vector3d::Zero();
   for (const auto& mp : tracking_.last_frame().map_points)
     if (mp) tracked_ids.push_back(mp->id());
   for (const auto& kf : map_->keyframes())
@@ -251,6 +254,11 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   }
   keyframe_since_update_ = false;
   note_local_map_size();
+  if (const auto reference_after = map_->keyframe(reference_id); reference_after && reference_before) {
+    const double moved = (reference_after->camera_center() - centre_before).norm();
+    update_stats_.max_correction_m = std::max(update_stats_.max_correction_m, moved);
+    update_stats_.sum_correction_m += moved;
+  }
   size_t kept = 0;
   for (uint32_t id : tracked_ids) kept += map_->map_point(id) ? 1 : 0;
   ++update_stats_.installed;

@@ -73,7 +73,10 @@ struct MobileUpdateStats {
   uint64_t tracked_points_before = 0, tracked_points_kept = 0;
   double min_kept_share = 1.0;
   uint64_t mobile_keyframes_dropped = 0;  // mobile-made KeyFrames the swap removed from the Local-Map
-  uint64_t keyframes_carried = 0;         // mobile KeyFrames newer than the update, put back (update_carry_over.h)
+  uint64_t keyframes_carried = 0;         // Local-Map KeyFrames the update did not hold, kept (merge / keep_newer)
+  // How far each update moved the map under the camera: the correction at the last frame's
+  // reference KeyFrame (camera centre displacement), the largest and the sum over the updates.
+  double max_correction_m = 0, sum_correction_m = 0;
 };
 
 struct UpdateOutcome {
