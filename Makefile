@@ -27,7 +27,7 @@ test:
 	bash scripts/test.sh
 # The split acceptance run alone (ATE, updates, Local-Map bound, KeyFrame accounting, loop on the edge).
 test-split:
-	bash scripts/build.sh && export PATH=/usr/bin:$$PATH && source .ws/devel/setup.bash && rostest test/rostest/split_pipeline.test repo:=$(CURDIR)
+	bash scripts/build.sh && export PATH=/usr/bin:$$PATH && source scripts/common.sh && ros_env && rostest test/rostest/split_pipeline.test repo:=$(CURDIR)
 eval:
 	DATASET="$(DATASET)" MODE="$(MODE)" OUT="$(OUT)" EDGE_SLAM_ARGS="$(EDGE_SLAM_ARGS)" bash scripts/eval.sh
 # bench: DATASET/OUT only when given (the defaults above are for eval); BENCH_ARGS e.g. "--only monolithic,split".

@@ -13,11 +13,19 @@ die() { printf '[edge_slam] ERROR: %s\n' "$*" >&2; exit 1; }
 inputs_hash() { cat "$@" 2>/dev/null | sha256sum | cut -c1-16; }
 
 ros_env() {
-  [ -f "$ROOT/.ws/devel/setup.bash" ] || die "workspace not built: run 'make setup' first"
+  # EDGE_SLAM_WS: another catkin workspace of these packages (e.g. a sanitizer build); default .ws.
+  local ws="${EDGE_SLAM_WS:-$ROOT/.ws}"
+  [ -f "$ws/devel/setup.bash" ] || die "workspace not built: run 'make setup' first ($ws)"
   set +u
   # shellcheck disable=SC1091
-  source "$ROOT/.ws/devel/setup.bash"
+  source "$ws/devel/setup.bash"
   set -u
+  # rospack re-crawls the package path when its cache in ROS_HOME is older than ROS_CACHE_TIMEOUT
+  # (60 s), and processes started together (two nodelet managers, their loaders) can then read a
+  # half-written cache and fail to find a nodelet's plugin ("Failed to load nodelet"). Crawl once
+  # here, and keep that cache for the whole run.
+  export ROS_CACHE_TIMEOUT=86400
+  rospack plugins --attrib=plugin nodelet > /dev/null 2>&1 || true
 }
 
 # A script's --help (or -h) as its first argument: its header comment (the usage), exit status 0.

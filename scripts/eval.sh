@@ -143,12 +143,20 @@ m["ate_online_rmse_m"] = ate["ate_rmse_m"]
 m["ate_online_pairs"] = ate["ate_pairs"]
 m["update_jump_max_m"] = ate["update_jump_max_m"]
 m["update_jumps"] = ate["update_jumps"]
+# The split's KeyFrame accounting in one place: made on the mobile, inserted / refused on the edge.
+k = m.get("edge", {}).get("keyframes", {})
+m["keyframes_made"] = m.get("keyframes")
+m["keyframes_inserted"] = k.get("inserted")
+m["keyframes_refused_condition1"] = k.get("rejected_condition1")
+m["keyframes_refused_condition2"] = k.get("rejected_condition2")
 json.dump(m, open(path, "w"), indent=2)
 u = m.get("updates", {})
 jump = ate["update_jump_max_m"]
 print(f"split: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; largest jump at an update "
       f"{'n/a' if jump is None else '%.2f cm' % (jump * 100)} over {len(ate['update_jumps'])} updates installed; "
-      f"updates accepted {u.get('accepted')}/{u.get('received')}; Local-Map peak {m.get('local_map_peak')} KeyFrames; "
-      f"edge loops closed {m.get('loops_closed')}")
+      f"updates accepted {u.get('accepted')}/{u.get('received')}; Local-Map peak {m.get('local_map_peak')} KeyFrames")
+print(f"split: KeyFrames made {m['keyframes_made']}, inserted on the edge {m['keyframes_inserted']}, refused by "
+      f"condition 1 {m['keyframes_refused_condition1']} / condition 2 {m['keyframes_refused_condition2']}; "
+      f"edge loops closed {m.get('loops_closed')}; lost {m.get('times_lost')} times")
 PY
 fi

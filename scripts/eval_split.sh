@@ -7,7 +7,9 @@
 # Called by scripts/eval.sh.
 #   env: DATASET (TUM folder) OUT CAMERA VOCABULARY (resolved by eval.sh);
 #        SLAM_CONFIG (default config/slam.yaml);
-#        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences)
+#        SPLIT_SOURCE=folder plays the folder live (tum_player) instead of its bag (long sequences);
+#        SPLIT_LAUNCH_ARGS extra roslaunch arguments (e.g. manager_prefix:="..." for a debugger);
+#        EDGE_SLAM_WS another workspace to run (e.g. a sanitizer build, scripts/common.sh)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 help_on_request "$@"
@@ -52,7 +54,7 @@ say "split: mobile + edge nodelets on ${SOURCE[0]#*:=} (real time; logs in $OUT/
 # accuracy comparison is like for like; SPLIT_IMAGE_QUEUE=2 gives a live camera's frame dropping.
 roslaunch launch/edge_slam.launch "${SOURCE[@]}" image_queue_size:="${SPLIT_IMAGE_QUEUE:-1000}" \
   slam_config:="$(realpath "${SLAM_CONFIG:-config/slam.yaml}")" camera_config:="$CAMERA" vocabulary:="$VOCABULARY" \
-  out:="$OUT" exit_with_bag:=false > "$OUT/launch.log" 2>&1 &
+  out:="$OUT" exit_with_bag:=false ${SPLIT_LAUNCH_ARGS:-} > "$OUT/launch.log" 2>&1 &
 launch_pid=$!
 
 # The bag is over when rosbag play has exited; then the edge finishes what it was given.

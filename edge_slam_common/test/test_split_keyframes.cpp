@@ -201,34 +201,43 @@ MapUpdateRecord shifted_update_without_the_newest(const std::vector<KeyFrameReco
   return u;
 }
 
-TEST(MobileUpdates, KeyFramesNewerThanTheUpdateAreKeptAndMovedWithIt) {
+TEST(MobileUpdates, KeyFramesTheUpdateDoesNotHoldAreKeptAndMovedWithIt) {
   const RenderedSequence& seq = sequence();
   const Eigen::Vector3d shift(0.05, 0, 0);
-  for (const bool keep : {true, false}) {
+  using Install = MobileSessionParams::UpdateInstall;
+  for (const Install install : {Install::kMerge, Install::kKeepNewer, Install::kReplace}) {
+    SCOPED_TRACE(install == Install::kMerge ? "merge" : install == Install::kKeepNewer ? "keep_newer" : "replace");
     MobileSessionParams params = paper_pacing();
-    params.update_keeps_newer_keyframes = keep;
+    params.update_install = install;
     params.update_retry_window = 0;
     MobileSession session = make_session(params);
     const int first = 30;
     for (int i = 0; i < first; ++i) ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid);
     std::vector<KeyFrameRecord> sent;
     while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
-    ASSERT_GE(sent.size(), 3u);
-    const uint32_t newest = sent.back().id;
-    const Eigen::Vector3d newest_before = session.local_map()->keyframe(newest)->T_wc().translation();
+    ASSERT_GE(sent.size(), 4u);
+    // The update holds only the last three it knew of: the first ones and the newest are not in it.
+    std::vector<KeyFrameRecord> recent(sent.end() - 4, sent.end());
+    std::map<uint32_t, Eigen::Vector3d> before;
+    std::map<uint32_t, Eigen::Vector3d> point_before;
+    for (const auto& kf : session.local_map()->keyframes()) before[kf->id()] = kf->T_wc().translation();
+    for (const auto& mp : session.local_map()->map_points()) point_before[mp->id()] = mp->position();
+    const uint32_t newest = sent.back().id, oldest = sent.front().id;
     const UpdateOutcome out =
-        session.apply_update(shifted_update_without_the_newest(sent, shift), (first - 1) / 15.0 + 1.0);
+        session.apply_update(shifted_update_without_the_newest(recent, shift), (first - 1) / 15.0 + 1.0);
     ASSERT_EQ(out.decision, UpdateDecision::kAccept) << to_string(out.decision);
-    const auto kept = session.local_map()->keyframe(newest);
-    if (!keep) {
-      EXPECT_FALSE(kept) << "the paper's full replacement drops it";
-      continue;
+    const auto map = session.local_map();
+    EXPECT_EQ(map->keyframe(newest) != nullptr, install != Install::kReplace) << "made after the update was built";
+    EXPECT_EQ(map->keyframe(oldest) != nullptr, install == Install::kMerge) << "older than the update's content";
+    for (const auto& kf : map->keyframes()) {
+      ASSERT_TRUE(before.count(kf->id()));
+      EXPECT_LT((kf->T_wc().translation() - (before[kf->id()] + shift)).norm(), 1e-6) << "KeyFrame " << kf->id();
+      for (uint32_t id : kf->map_point_ids())
+        if (id != kNoId) EXPECT_TRUE(map->map_point(id)) << "KeyFrame " << kf->id() << " point " << id;
     }
-    ASSERT_TRUE(kept);
-    EXPECT_LT((kept->T_wc().translation() - (newest_before + shift)).norm(), 1e-6) << "moved with the map";
-    for (uint32_t id : kept->map_point_ids())
-      if (id != kNoId) EXPECT_TRUE(session.local_map()->map_point(id)) << "point " << id;
-    EXPECT_EQ(session.update_stats().keyframes_carried, 1u);
+    for (const auto& mp : map->map_points())  // every point moved with the map, exactly once
+      if (point_before.count(mp->id()))
+        EXPECT_LT((mp->position() - (point_before[mp->id()] + shift)).norm(), 1e-5) << "point " << mp->id();
     // The next frame is predicted in the shifted map: the last frame moved with its reference.
     const TrackingResult next = session.track(seq.colors[first], seq.depths[first], first / 15.0);
     ASSERT_TRUE(next.pose_valid) << next.message;

@@ -25,6 +25,15 @@ void MapPoint::set_position(const Eigen::Vector3d& p) {
   std::lock_guard<std::mutex> lock(pos_mutex_);
   position_ = p;
 }
+bool MapPoint::transform_once(const Eigen::Isometry3d& C, uint64_t pass) {
+  std::lock_guard<std::mutex> lock(pos_mutex_);
+  if (last_transform_pass_ == pass) return false;
+  last_transform_pass_ = pass;
+  position_ = C * position_;
+  normal_ = C.linear() * normal_;
+  return true;
+}
+
 Eigen::Vector3d MapPoint::normal() const {
   std::lock_guard<std::mutex> lock(pos_mutex_);
   return normal_;

@@ -10,6 +10,8 @@
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/update_carry_over.h"
+#include "edge_slam/module/update_merge.h"
+#include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
 
@@ -29,7 +31,16 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
     throw std::runtime_error(cfg.origin() + ": key 'edge_slam/mobile_keyframe_pacing' has value '" + pacing +
                              "', expected one of edge, none");
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
-  p.update_keeps_newer_keyframes = cfg.get_bool_or("edge_slam/update_keeps_newer_keyframes", true);
+  const std::string install = cfg.get_string("edge_slam/update_install", "merge");
+  if (install == "replace")
+    p.update_install = MobileSessionParams::UpdateInstall::kReplace;
+  else if (install == "keep_newer")
+    p.update_install = MobileSessionParams::UpdateInstall::kKeepNewer;
+  else if (install == "merge")
+    p.update_install = MobileSessionParams::UpdateInstall::kMerge;
+  else
+    throw std::runtime_error(cfg.origin() + ": key 'edge_slam/update_install' has value '" + install +
+                             "', expected one of replace, keep_newer, merge");
   return p;
 }
 
@@ -199,26 +210,49 @@ std::optional<std::pair<uint64_t, UpdateOutcome>> MobileSession::take_deferred_o
 void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<uint32_t> tracked_ids, mobile_kfs_before;
+  const uint32_t reference_id = tracking_.reference_keyframe_id();
+  const auto reference_before = map_->keyframe(reference_id);
+  const Eigen::Vector3d centre_before = reference_before ? reference_before->camera_center() : Eigen::Vector3d::Zero();
   for (const auto& mp : tracking_.last_frame().map_points)
     if (mp) tracked_ids.push_back(mp->id());
   for (const auto& kf : map_->keyframes())
     if (created_set_.count(kf->id())) mobile_kfs_before.push_back(kf->id());
-  install_update(*map_, pending.staged);  // pending.staged now holds the old Local-Map
-  const Map& old_map = *pending.staged.map;
-  if (params_.update_keeps_newer_keyframes) {
-    std::vector<uint32_t> newer;  // made after the edge built the update, oldest first
-    for (size_t i = created_ids_.size(); i-- > 0 && created_seqs_[i] > pending.last_keyframe_seq;)
-      newer.insert(newer.begin(), created_ids_[i]);
-    std::lock_guard<std::mutex> lock(map_->update_mutex());
-    const CarryOverResult carried = carry_over_keyframes(*map_, old_map, newer, nullptr);
-    update_stats_.keyframes_carried += carried.keyframes;
+  if (params_.update_install == MobileSessionParams::UpdateInstall::kMerge) {
+    // In place, in time proportional to the update (update_merge.h); the Local-Map's KeyFrames
+    // are corrected where they are, so the last frame's reference already carries the correction.
+    std::vector<uint32_t> keep;  // within the cap the oldest kept KeyFrames go first, never these
+    for (const auto& kf : pending.staged.map->keyframes()) keep.push_back(kf->id());
+    keep.push_back(tracking_.reference_keyframe_id());
+    if (!created_ids_.empty()) keep.push_back(created_ids_.back());
+    {
+      std::lock_guard<std::mutex> lock(map_->update_mutex());
+      const MergeResult merged = merge_update(*map_, *pending.staged.map, database_.get());
+      update_stats_.keyframes_carried += merged.keyframes_kept;
+      dropped_by_cap_ += enforce_local_map_cap(*map_, database_.get(), params_.local_map_cap, keep).size();
+    }
+    tracking_.relink_after_map_update(map_.get());
+  } else {
+    install_update(*map_, pending.staged);  // pending.staged now holds the old Local-Map
+    const Map& old_map = *pending.staged.map;
+    if (params_.update_install == MobileSessionParams::UpdateInstall::kKeepNewer) {
+      std::vector<uint32_t> newer;  // made after the edge built the update, oldest first
+      for (size_t i = created_ids_.size(); i-- > 0 && created_seqs_[i] > pending.last_keyframe_seq;)
+        newer.insert(newer.begin(), created_ids_[i]);
+      std::lock_guard<std::mutex> lock(map_->update_mutex());
+      update_stats_.keyframes_carried += carry_over_keyframes(*map_, old_map, newer, nullptr).keyframes;
+    }
+    database_->clear();
+    for (const auto& kf : map_->keyframes())
+      if (kf->has_bow()) database_->add(kf);
+    tracking_.relink_after_map_update(&old_map);
   }
-  database_->clear();
-  for (const auto& kf : map_->keyframes())
-    if (kf->has_bow()) database_->add(kf);
-  tracking_.relink_after_map_update(&old_map);
   keyframe_since_update_ = false;
   note_local_map_size();
+  if (const auto reference_after = map_->keyframe(reference_id); reference_after && reference_before) {
+    const double moved = (reference_after->camera_center() - centre_before).norm();
+    update_stats_.max_correction_m = std::max(update_stats_.max_correction_m, moved);
+    update_stats_.sum_correction_m += moved;
+  }
   size_t kept = 0;
   for (uint32_t id : tracked_ids) kept += map_->map_point(id) ? 1 : 0;
   ++update_stats_.installed;

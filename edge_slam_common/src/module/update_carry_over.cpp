@@ -30,14 +30,15 @@ uint32_t anchor_of(const KeyFrame& kf, const Map& new_map) {
 }  // namespace
 
 CarryOverResult carry_over_keyframes(Map& new_map, const Map& old_map, const std::vector<uint32_t>& ids,
-                                     KeyFrameDatabase* database) {
+                                     KeyFrameDatabase* database, uint32_t fallback_anchor) {
   CarryOverResult out;
+  const Eigen::Isometry3d fallback = map_correction_at(new_map, old_map, fallback_anchor);
   std::unordered_map<uint32_t, Eigen::Isometry3d> correction_of;  // carried KeyFrame -> its correction
   for (uint32_t id : ids) {
     const auto kf = old_map.keyframe(id);
     if (!kf || kf->is_bad() || new_map.keyframe(id)) continue;
     // A carried parent has already been corrected: follow it; otherwise an updated neighbour.
-    Eigen::Isometry3d C = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d C = fallback;
     if (const auto it = correction_of.find(kf->parent_id()); it != correction_of.end()) {
       C = it->second;
     } else {

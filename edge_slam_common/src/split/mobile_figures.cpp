@@ -107,7 +107,9 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .integer("tracked_points_kept", static_cast<long long>(us.tracked_points_kept))
       .number("min_kept_share", us.min_kept_share)
       .integer("mobile_keyframes_dropped", static_cast<long long>(us.mobile_keyframes_dropped))
-      .integer("keyframes_carried", static_cast<long long>(us.keyframes_carried));
+      .integer("keyframes_carried", static_cast<long long>(us.keyframes_carried))
+      .number("max_correction_m", us.max_correction_m)
+      .number("mean_correction_m", us.installed ? us.sum_correction_m / us.installed : 0.0);
   MetricsJson m;
   m.text("mode", "split").text("dataset", dataset);
   m.object("keyframe_stats", kf_stats).object("update_stats", update_stats);

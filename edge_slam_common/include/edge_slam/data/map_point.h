@@ -3,6 +3,7 @@
 // keypoint index). Thread-safe: position and observation data have their own mutexes.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -39,6 +40,10 @@ class MapPoint {
   float min_distance() const;  // scale-invariance range (0.8 / 1.2 margins applied)
   float max_distance() const;
   void set_normal_and_distances(const Eigen::Vector3d& normal, float min_d, float max_d);
+  // Moves the point rigidly (position and viewing normal) under one lock, once per `pass`: a
+  // second call with the same pass does nothing and returns false (a Local-Map update moves each
+  // point once, whichever of its KeyFrames reaches it first). Passes are > 0.
+  bool transform_once(const Eigen::Isometry3d& C, uint64_t pass);
   // Pyramid level at which the point should appear when seen from distance `dist`.
   int predict_level(double dist, const ScalePyramid& pyramid) const;
 
@@ -84,6 +89,7 @@ class MapPoint {
   Eigen::Vector3d position_;
   Eigen::Vector3d normal_ = Eigen::Vector3d::Zero();
   float min_distance_ = 0.f, max_distance_ = 0.f;
+  uint64_t last_transform_pass_ = 0;
 
   mutable std::mutex features_mutex_;
   Descriptor descriptor_{};

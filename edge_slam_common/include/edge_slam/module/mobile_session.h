@@ -42,10 +42,14 @@ struct MobileSessionParams {
   // on each frame for this many seconds instead of being dropped: bursts of KeyFrames are short,
   // and the next update is a whole period away. 0 = refuse at once (the paper's behaviour).
   double update_retry_window = 0.5;
-  // An update replaces the Local-Map (paper 4.6.1), but it holds only what the edge had when it
-  // started building it: true puts back the mobile's KeyFrames made since (module/update_carry_over.h),
-  // with their points, moved by the update's correction. false = the paper's full replacement.
-  bool update_keeps_newer_keyframes = true;
+  // How an accepted update is installed (edge_slam/update_install). kReplace: the paper's full
+  // replacement (4.6.1). An update holds only update_size KeyFrames and only what the edge had
+  // when it started building it; kKeepNewer puts back the mobile's KeyFrames made since, kMerge
+  // every KeyFrame of the Local-Map the update does not hold (module/update_carry_over.h: with
+  // their points, moved by the update's correction), so the places tracking turns back to stay
+  // mapped; the cap then drops the oldest of those first, never the update's own.
+  enum class UpdateInstall { kReplace, kKeepNewer, kMerge };
+  UpdateInstall update_install = UpdateInstall::kMerge;
 };
 
 class ConfigMap;
@@ -70,7 +74,10 @@ struct MobileUpdateStats {
   uint64_t tracked_points_before = 0, tracked_points_kept = 0;
   double min_kept_share = 1.0;
   uint64_t mobile_keyframes_dropped = 0;  // mobile-made KeyFrames the swap removed from the Local-Map
-  uint64_t keyframes_carried = 0;         // mobile KeyFrames newer than the update, put back (update_carry_over.h)
+  uint64_t keyframes_carried = 0;         // Local-Map KeyFrames the update did not hold, kept (merge / keep_newer)
+  // How far each update moved the map under the camera: the correction at the last frame's
+  // reference KeyFrame (camera centre displacement), the largest and the sum over the updates.
+  double max_correction_m = 0, sum_correction_m = 0;
 };
 
 struct UpdateOutcome {

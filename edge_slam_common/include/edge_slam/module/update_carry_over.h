@@ -26,9 +26,10 @@ struct CarryOverResult {
 
 // `ids`: the KeyFrames to carry, oldest first, taken from `old_map` (the Local-Map before the
 // swap). The caller holds new_map's update mutex (tracking is paused). A KeyFrame the old map
-// does not hold, or one the new map already has, is skipped.
+// does not hold, or one the new map already has, is skipped. One linked to no KeyFrame of the
+// update (nor to a carried one) follows the correction at `fallback_anchor` (kNoId: none).
 CarryOverResult carry_over_keyframes(Map& new_map, const Map& old_map, const std::vector<uint32_t>& ids,
-                                     KeyFrameDatabase* database);
+                                     KeyFrameDatabase* database, uint32_t fallback_anchor = kNoId);
 
 // The rigid change x_new = C * x_old of the map around a KeyFrame, from a KeyFrame present in both
 // maps: C = T_wc(new) * T_cw(old). Identity when the anchor is in only one of them.
