@@ -149,7 +149,9 @@ int main(int argc, char** argv) {
     const double first_stamp = dataset.frames().empty() ? 0.0 : dataset.frames()[0].rgb_stamp;
     size_t processed = 0;
     std::ofstream frame_log(out_dir + "/frame_times.csv");
-    frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms\n" << std::fixed;
+    frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms";
+    for (int s = 0; s < kTrackingStages; ++s) frame_log << ',' << to_string(static_cast<TrackingStage>(s)) << "_cpu_ms";
+    frame_log << '\n' << std::fixed;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
       if (pace == "realtime") {  // do not run ahead of the camera
@@ -170,7 +172,9 @@ int main(int argc, char** argv) {
       frame_log << std::setprecision(6) << dataset.frames()[i].rgb_stamp << ',' << to_string(r.state) << ','
                 << r.pose_valid << ',' << r.new_keyframe << ',' << r.relocalized << ',' << r.keypoints << ',' << r.inliers
                 << ',' << std::setprecision(3)
-                << r.time_ms << ',' << r.cpu_ms << '\n';
+                << r.time_ms << ',' << r.cpu_ms;
+      for (double ms : r.stages.cpu_ms) frame_log << ',' << ms;
+      frame_log << '\n';
       if (processed % 100 == 0)
         std::cerr << "frame " << i + 1 << "/" << n << "  keyframes " << map->num_keyframes() << "  points "
                   << map->num_map_points() << "  inliers " << r.inliers << "  " << std::fixed
@@ -197,6 +201,18 @@ int main(int argc, char** argv) {
         .integer("map_points", static_cast<long long>(map->num_map_points()));
     add_module_figures(m, collect_module_figures(slam.local_mapping(), slam.loop_closing()));
     m.timing("tracking_cpu_ms", tracking.frame_cpu_times_ms()).timing("tracking_ms", tracking.frame_times_ms());
+    // Per stage (util/stage_clock.h), CPU and wall: {"extract": {count, mean, median, p95, max}, ...}.
+    MetricsJson stage_cpu, stage_wall;
+    for (int s = 0; s < kTrackingStages; ++s) {
+      std::vector<double> cpu_ms, wall_ms;
+      for (const TrackingStageTimes& t : tracking.frame_stage_times()) {
+        cpu_ms.push_back(t.cpu_ms[s]);
+        wall_ms.push_back(t.wall_ms[s]);
+      }
+      stage_cpu.timing(to_string(static_cast<TrackingStage>(s)), cpu_ms);
+      stage_wall.timing(to_string(static_cast<TrackingStage>(s)), wall_ms);
+    }
+    m.object("tracking_stage_cpu_ms", stage_cpu).object("tracking_stage_ms", stage_wall);
     m.write(out_dir + "/metrics.json");
     std::cout << "frames " << processed << ", tracked " << c.frames_tracked << ", lost " << c.times_lost
               << " times, relocalized " << c.relocalizations << ", keyframes " << map->num_keyframes()

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
+#include <optional>
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
@@ -99,6 +100,7 @@ void Tracking::relink_after_map_update() {
 TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = thread_cpu_ms();
+  StageClock stage_clock(TrackingStage::kExtract);
   Frame frame;
   try {
     frame = Frame::from_rgbd(next_frame_id_++, stamp, color, depth, camera_, extractor_, encoding_);
@@ -113,14 +115,19 @@ TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, 
   TrackingResult r = track_frame(std::move(frame));
   r.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   r.cpu_ms = thread_cpu_ms() - c0;
+  r.stages = stage_clock.read();
   times_ms_.back() = r.time_ms;
   cpu_times_ms_.back() = r.cpu_ms;
+  stage_times_.back() = r.stages;
   return r;
 }
 
 TrackingResult Tracking::track_frame(Frame frame) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = thread_cpu_ms();
+  std::optional<StageClock> own_clock;  // track_rgbd installed one already
+  if (!StageClock::active()) own_clock.emplace(TrackingStage::kMatch);
+  StageScope match_stage(TrackingStage::kMatch);  // whatever no other stage claims
   std::lock_guard<std::mutex> map_lock(map_->update_mutex());
   ++counters_.frames;
   next_frame_id_ = std::max(next_frame_id_, frame.id + 1);
@@ -205,8 +212,10 @@ TrackingResult Tracking::track_frame(Frame frame) {
   last_frame_ = std::move(frame);
   result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   result.cpu_ms = thread_cpu_ms() - c0;
+  result.stages = StageClock::active()->read();
   times_ms_.push_back(result.time_ms);
   cpu_times_ms_.push_back(result.cpu_ms);
+  stage_times_.push_back(result.stages);
   return result;
 }
 
@@ -305,6 +314,7 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
 }
 
 bool Tracking::track_local_map(Frame& frame, int& inliers) {
+  StageScope stage(TrackingStage::kLocalMap);
   inliers = 0;
   const LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
   if (local.reference) {
@@ -329,6 +339,7 @@ bool Tracking::track_local_map(Frame& frame, int& inliers) {
 }
 
 bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
+  StageScope stage(TrackingStage::kKeyFrame);
   if (!reference_kf_) return true;
   const size_t n_kfs = map_->num_keyframes();
   KeyFrameDecisionInput in;
@@ -352,6 +363,7 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers) const {
 }
 
 std::shared_ptr<KeyFrame> Tracking::create_keyframe(Frame& frame, bool all_depth_points) {
+  StageScope stage(TrackingStage::kKeyFrame);
   if (vocabulary_ && !vocabulary_->empty()) frame.compute_bow(*vocabulary_);
   auto kf = std::make_shared<KeyFrame>(map_->new_keyframe_id(), frame);
   map_->add_keyframe(kf);

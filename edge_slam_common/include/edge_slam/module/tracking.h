@@ -24,6 +24,7 @@
 #include "edge_slam/module/local_map.h"
 #include "edge_slam/module/relocalizer.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/stage_clock.h"
 
 namespace edge_slam {
 
@@ -43,6 +44,7 @@ struct TrackingResult {
   bool relocalized = false;
   double time_ms = 0;             // wall time: frame construction (ORB) + tracking
   double cpu_ms = 0;              // CPU time of this thread for the same work
+  TrackingStageTimes stages;      // the same split by stage (extract, match, pose, local map, KeyFrame)
   std::string message;            // why tracking failed / the input was rejected
   // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
   // optimised KeyFrames, as ORB-SLAM2 saves its trajectory): the reference KeyFrame and the
@@ -87,6 +89,7 @@ class Tracking {
   const TrackingCounters& counters() const { return counters_; }
   const std::vector<double>& frame_times_ms() const { return times_ms_; }      // wall
   const std::vector<double>& frame_cpu_times_ms() const { return cpu_times_ms_; }
+  const std::vector<TrackingStageTimes>& frame_stage_times() const { return stage_times_; }
   const Frame& last_frame() const { return last_frame_; }
   uint32_t reference_keyframe_id() const { return reference_kf_ ? reference_kf_->id() : kNoId; }
   const OrbExtractor& extractor() const { return extractor_; }
@@ -136,6 +139,7 @@ class Tracking {
   TrackingCounters counters_;
   std::vector<double> times_ms_;
   std::vector<double> cpu_times_ms_;
+  std::vector<TrackingStageTimes> stage_times_;
 };
 
 }  // namespace edge_slam
