@@ -11,6 +11,7 @@
 #include "edge_slam/match/orb_matcher.h"
 #include "edge_slam/module/frame_pose.h"
 #include "edge_slam/module/keyframe_decision.h"
+#include "edge_slam/util/flat_id_set.h"
 
 namespace edge_slam {
 namespace {
@@ -287,7 +288,8 @@ bool Tracking::track_reference_keyframe(Frame& frame) {
 }
 
 void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
-  std::unordered_set<uint32_t> in_frame;
+  FlatIdSet in_frame;  // looked up once per local point (~10^4): no node chasing
+  in_frame.reserve(frame.map_points.size());
   for (auto& mp : frame.map_points) {
     if (!mp) continue;
     if (mp->is_bad()) {
@@ -300,7 +302,7 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
   std::vector<ProjectedPoint> projected;
   projected.reserve(local.points.size());
   for (const auto& mp : local.points) {
-    if (mp->is_bad() || in_frame.count(mp->id())) continue;
+    if (mp->is_bad() || in_frame.contains(mp->id())) continue;
     ProjectedPoint p;
     if (project_into_frame(frame, mp, kMinViewCos, p)) {
       mp->increase_visible();
@@ -316,13 +318,13 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
 bool Tracking::track_local_map(Frame& frame, int& inliers) {
   StageScope stage(TrackingStage::kLocalMap);
   inliers = 0;
-  const LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
+  LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
   if (local.reference) {
     reference_kf_ = local.reference;
     frame.reference_kf = local.reference;
   }
-  map_->set_reference_map_points(local.points);
   search_local_points(frame, local);
+  map_->set_reference_map_points(std::move(local.points));  // moved, not copied: ~10^4 points
   if (optimize_frame_pose(frame) < 0) return false;
   for (size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& mp = frame.map_points[i];
