@@ -183,3 +183,4 @@ TEST(PoseBatchCost, OptimisationTakesTheSameStepsAsPerObservationBlocks) {
     EXPECT_GT((T_new.matrix() - s.T_cw_start.matrix()).cwiseAbs().maxCoeff(), 1e-3) << "seed " << seed;
   }
 }
+

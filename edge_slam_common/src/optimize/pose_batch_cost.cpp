@@ -25,9 +25,8 @@ PoseBatchCost::PoseBatchCost(const PinholeCamera& cam, const std::vector<PixelMe
 }
 
 bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
-  const Eigen::Map<const Eigen::Vector3d> v(parameters[0]);
-  const double w = parameters[0][3];
-  const Eigen::Map<const Eigen::Vector3d> t(parameters[1]);
+  const double vx = parameters[0][0], vy = parameters[0][1], vz = parameters[0][2], w = parameters[0][3];
+  const double tx = parameters[1][0], ty = parameters[1][1], tz = parameters[1][2];
   double* const jq = jacobians ? jacobians[0] : nullptr;  // row-major rows x 4
   double* const jt = jacobians ? jacobians[1] : nullptr;  // row-major rows x 3
   double sum = 0.0;
@@ -42,18 +41,21 @@ bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals,
       continue;
     }
     // Eigen's q * X for a unit quaternion q = (v, w): X + 2w (v x X) + 2 v x (v x X).
-    const Eigen::Vector3d& X = o.point;
-    const Eigen::Vector3d vxX = v.cross(X);
-    const Eigen::Vector3d Xc = X + 2.0 * w * vxX + 2.0 * v.cross(vxX) + t;
-    if (!(Xc.z() > kMinDepth)) return false;
-    const double inv_z = 1.0 / Xc.z();
-    const double u = fx_ * Xc.x() * inv_z + cx_;
-    const double vv = fy_ * Xc.y() * inv_z + cy_;
+    const double X = o.point.x(), Y = o.point.y(), Z = o.point.z();
+    const double cx = vy * Z - vz * Y, cy = vz * X - vx * Z, cz = vx * Y - vy * X;  // v x X
+    const double ccx = vy * cz - vz * cy, ccy = vz * cx - vx * cz, ccz = vx * cy - vy * cx;  // v x (v x X)
+    const double xc = X + 2.0 * w * cx + 2.0 * ccx + tx;
+    const double yc = Y + 2.0 * w * cy + 2.0 * ccy + ty;
+    const double zc = Z + 2.0 * w * cz + 2.0 * ccz + tz;
+    if (!(zc > kMinDepth)) return false;
+    const double inv_z = 1.0 / zc;
+    const double u = fx_ * xc * inv_z + cx_;
+    const double vv = fy_ * yc * inv_z + cy_;
     r[0] = o.sqrt_info * (o.measured.x() - u);
     r[1] = o.sqrt_info * (o.measured.y() - vv);
     if (o.stereo) r[2] = o.sqrt_info * (o.measured.z() - (u - bf_ * inv_z));
-    double s = 0.0;
-    for (int k = 0; k < n; ++k) s += r[k] * r[k];
+    double s = r[0] * r[0] + r[1] * r[1];
+    if (o.stereo) s += r[2] * r[2];
     // The per-observation loss and Ceres' first-order correction (Huber: rho'' <= 0).
     double scale = 1.0;
     if (robust_) {
@@ -65,30 +67,32 @@ bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals,
       sum += s;
     }
     if (jq || jt) {
-      // d r / d Xc = -sqrt_info * d projection / d Xc, times the loss scale.
-      const double inv_z2 = inv_z * inv_z;
-      const double k = -o.sqrt_info * scale;
-      Eigen::Matrix3d dr_dXc;
-      dr_dXc << fx_ * inv_z, 0.0, -fx_ * Xc.x() * inv_z2,
-                0.0, fy_ * inv_z, -fy_ * Xc.y() * inv_z2,
-                fx_ * inv_z, 0.0, -fx_ * Xc.x() * inv_z2 + bf_ * inv_z2;
-      dr_dXc *= k;
-      if (jq) {
-        // d Xc / d (v, w) of the rotation formula above, in the ambient (x, y, z, w) order.
-        Eigen::Matrix<double, 3, 4> dXc_dq;
-        const double vX = v.dot(X);
-        Eigen::Matrix3d skew_X;
-        skew_X << 0.0, -X.z(), X.y(), X.z(), 0.0, -X.x(), -X.y(), X.x(), 0.0;
-        dXc_dq.leftCols<3>() = -2.0 * w * skew_X +
-                               2.0 * (vX * Eigen::Matrix3d::Identity() + v * X.transpose() - 2.0 * X * v.transpose());
-        dXc_dq.col(3) = 2.0 * vxX;
-        const Eigen::Matrix<double, 3, 4> J = dr_dXc * dXc_dq;
-        for (int row = 0; row < n; ++row)
-          for (int c = 0; c < 4; ++c) jq[4 * (o.first_row + row) + c] = J(row, c);
+      // Row k of d r / d Xc (= d r / d t): -sqrt_info * d projection_k / d Xc, times the loss scale.
+      const double kk = -o.sqrt_info * scale;
+      const double a = kk * fx_ * inv_z, b = kk * fy_ * inv_z, c = -kk * fx_ * xc * inv_z * inv_z;
+      const double d = -kk * fy_ * yc * inv_z * inv_z, e = kk * bf_ * inv_z * inv_z;
+      const double rows[3][3] = {{a, 0.0, c}, {0.0, b, d}, {a, 0.0, c + e}};
+      const double vX = vx * X + vy * Y + vz * Z;
+      for (int k = 0; k < n; ++k) {
+        const double* g = rows[k];
+        if (jt) {
+          double* J = jt + 3 * (o.first_row + k);
+          J[0] = g[0];
+          J[1] = g[1];
+          J[2] = g[2];
+        }
+        if (jq) {
+          // g^T d Xc / d(v, w), with d Xc / dv = -2w [X]x + 2 (v.X I + v X^T - 2 X v^T) and
+          // d Xc / dw = 2 v x X, i.e. -2w (g x X) + 2 (v.X) g + 2 (g.v) X - 4 (g.X) v and 2 g.(v x X).
+          const double gv = g[0] * vx + g[1] * vy + g[2] * vz, gX = g[0] * X + g[1] * Y + g[2] * Z;
+          const double gxX0 = g[1] * Z - g[2] * Y, gxX1 = g[2] * X - g[0] * Z, gxX2 = g[0] * Y - g[1] * X;
+          double* J = jq + 4 * (o.first_row + k);
+          J[0] = -2.0 * w * gxX0 + 2.0 * vX * g[0] + 2.0 * gv * X - 4.0 * gX * vx;
+          J[1] = -2.0 * w * gxX1 + 2.0 * vX * g[1] + 2.0 * gv * Y - 4.0 * gX * vy;
+          J[2] = -2.0 * w * gxX2 + 2.0 * vX * g[2] + 2.0 * gv * Z - 4.0 * gX * vz;
+          J[3] = 2.0 * (g[0] * cx + g[1] * cy + g[2] * cz);
+        }
       }
-      if (jt)
-        for (int row = 0; row < n; ++row)
-          for (int c = 0; c < 3; ++c) jt[3 * (o.first_row + row) + c] = dr_dXc(row, c);
     }
     for (int k = 0; k < n; ++k) r[k] *= scale;
   }

@@ -33,11 +33,10 @@ PoseOptimizationResult failure(const std::string& why) {
   return r;
 }
 
-bool is_outlier_at(const PinholeCamera& cam, const PoseObservation& o, const PoseParameters& pose) {
+bool is_outlier_at(const PinholeCamera& cam, const PoseObservation& o, const Eigen::Quaterniond& q,
+                   const Eigen::Vector3d& t) {
   const PixelMeasurement m = to_measurement(o);
-  const auto check = optimize_detail::evaluate_reprojection(cam, m, pose.quaternion(),
-                                                            pose.translation(), o.point_world);
-  return optimize_detail::is_reprojection_outlier(check, m);
+  return optimize_detail::is_reprojection_outlier(optimize_detail::evaluate_reprojection(cam, m, q, t, o.point_world), m);
 }
 
 }  // namespace
@@ -103,7 +102,8 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
     for (size_t i = 0; i < obs.size(); ++i) {
       if (!usable[i]) continue;
       // A point behind the camera cannot be evaluated by the residual: it sits out this round.
-      if (!outlier[i] && optimize_detail::evaluate_reprojection(cam, measurements[slot_of[i]], pose.quaternion(),
+      // (After round 0 the classification below already flagged those: checked once.)
+      if (round == 0 && !outlier[i] && optimize_detail::evaluate_reprojection(cam, measurements[slot_of[i]], pose.quaternion(),
                                                                 pose.translation(), obs[i].point_world)
                                  .depth <= optimize_detail::kMinDepth)
         outlier[i] = true;
@@ -121,8 +121,10 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
       return failure("ceres failed: " + summary.message);
     }
 
+    const Eigen::Quaterniond q = pose.quaternion();  // normalised once, not per observation
+    const Eigen::Vector3d t = pose.translation();
     for (size_t i = 0; i < obs.size(); ++i) {
-      outlier[i] = !usable[i] || is_outlier_at(cam, obs[i], pose);
+      outlier[i] = !usable[i] || is_outlier_at(cam, obs[i], q, t);
     }
   }
 
