@@ -55,7 +55,11 @@ int OrbMatcher::search_by_projection(Frame& frame, const std::vector<ProjectedPo
   const FrameFeatures& f = frame.feat();
   int matches = 0;
   std::vector<size_t> candidates;
-  for (const ProjectedPoint& p : points) {
+  constexpr size_t kPrefetchAhead = 8;  // points: enough to cover a cache miss
+  for (size_t k = 0; k < points.size(); ++k) {
+    if (k + kPrefetchAhead < points.size() && points[k + kPrefetchAhead].mp)
+      points[k + kPrefetchAhead].mp->prefetch_descriptor();
+    const ProjectedPoint& p = points[k];
     if (!p.mp || p.mp->is_bad()) continue;
     const float r = th * radius_for_view_cos(p.view_cos) * f.pyramid->scale_factors[p.level];
     frame.features_in_area(p.u, p.v, r, p.level - 1, p.level, candidates);

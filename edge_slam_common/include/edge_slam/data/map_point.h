@@ -73,6 +73,20 @@ class MapPoint {
   int found() const { return found_; }
   float found_ratio() const { return visible_ > 0 ? static_cast<float>(found_) / visible_ : 0.f; }
 
+  // Hints the CPU to fetch the cache lines a projection test (id, flags, geometry) or a
+  // descriptor comparison reads, ahead of use: loops over ~10^4 points per frame call it a few
+  // points in advance so the memory latency overlaps the work on the current point.
+  void prefetch_geometry() const {
+    __builtin_prefetch(this);
+    __builtin_prefetch(reinterpret_cast<const char*>(this) + 64);
+    __builtin_prefetch(reinterpret_cast<const char*>(this) + 112);
+  }
+  void prefetch_descriptor() const {
+    __builtin_prefetch(this);
+    __builtin_prefetch(&descriptor_);
+    __builtin_prefetch(reinterpret_cast<const char*>(&descriptor_) + 31);
+  }
+
   bool is_bad() const { return bad_; }
   void set_bad() { bad_ = true; }
   // Id of the point that replaced this one after a fusion (kNoId if none), so holders of
