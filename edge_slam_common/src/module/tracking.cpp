@@ -301,7 +301,11 @@ void Tracking::search_local_points(Frame& frame, const LocalMap& local) {
   }
   std::vector<ProjectedPoint> projected;
   projected.reserve(local.points.size());
-  for (const auto& mp : local.points) {
+  constexpr size_t kPrefetchAhead = 8;  // points: enough to cover a cache miss
+  for (size_t k = 0; k < std::min(kPrefetchAhead, local.points.size()); ++k) local.points[k]->prefetch_geometry();
+  for (size_t k = 0; k < local.points.size(); ++k) {
+    if (k + kPrefetchAhead < local.points.size()) local.points[k + kPrefetchAhead]->prefetch_geometry();
+    const auto& mp = local.points[k];
     if (mp->is_bad() || in_frame.contains(mp->id())) continue;
     ProjectedPoint p;
     if (project_into_frame(frame, mp, kMinViewCos, p)) {
