@@ -118,7 +118,7 @@ TEST(PoseBatchCost, RowsAndJacobiansAreTheRobustifiedPerObservationOnes) {
     ms.push_back(measurement(o));
     pts.push_back(o.point_world);
   }
-  PoseBatchCost batch(s.cam, ms, pts);
+  PoseBatchCost batch(s.cam, ms, pts, PoseBatchCost::Form::kRows);
   batch.set_active(3, false);
   const PoseParameters pose = PoseParameters::from_isometry(s.T_cw_start);
   const double* params[2] = {pose.q, pose.t};
@@ -160,10 +160,56 @@ TEST(PoseBatchCost, RowsAndJacobiansAreTheRobustifiedPerObservationOnes) {
   // A point behind the camera fails the evaluation, as the per-observation residual does.
   std::vector<Eigen::Vector3d> behind = pts;
   behind[0] = s.T_cw_start.inverse() * Eigen::Vector3d(0, 0, -1);
-  PoseBatchCost bad(s.cam, ms, behind);
+  PoseBatchCost bad(s.cam, ms, behind, PoseBatchCost::Form::kRows);
   EXPECT_FALSE(bad.Evaluate(params, r.data(), jac));
   bad.set_active(0, false);
   EXPECT_TRUE(bad.Evaluate(params, r.data(), jac));
+}
+
+TEST(PoseBatchCost, SquareRootFormHasTheRowsNormalEquationsAndCost) {
+  const Scene s = make_scene(2, 60);
+  std::vector<PixelMeasurement> ms;
+  std::vector<Eigen::Vector3d> pts;
+  for (const auto& o : s.obs) {
+    ms.push_back(measurement(o));
+    pts.push_back(o.point_world);
+  }
+  PoseBatchCost rows(s.cam, ms, pts, PoseBatchCost::Form::kRows), root(s.cam, ms, pts);
+  rows.set_active(5, false);
+  root.set_active(5, false);
+  ASSERT_EQ(root.num_residuals(), PoseBatchCost::kSquareRootRows);
+  const PoseParameters pose = PoseParameters::from_isometry(s.T_cw_start);
+  const double* params[2] = {pose.q, pose.t};
+  const int n = rows.num_residuals();
+  // J as n x 7 (q then t) for both forms.
+  auto evaluate = [&](const PoseBatchCost& f, int m, Eigen::MatrixXd& J, Eigen::VectorXd& r) {
+    std::vector<double> res(m), jq(m * 4), jt(m * 3);
+    double* jac[2] = {jq.data(), jt.data()};
+    ASSERT_TRUE(f.Evaluate(params, res.data(), jac));
+    J.resize(m, 7);
+    r = Eigen::Map<Eigen::VectorXd>(res.data(), m);
+    for (int i = 0; i < m; ++i) {
+      for (int c = 0; c < 4; ++c) J(i, c) = jq[4 * i + c];
+      for (int c = 0; c < 3; ++c) J(i, 4 + c) = jt[3 * i + c];
+    }
+  };
+  for (const bool robust : {true, false}) {
+    rows.set_robust(robust);
+    root.set_robust(robust);
+    Eigen::MatrixXd J1, J2;
+    Eigen::VectorXd r1, r2;
+    evaluate(rows, n, J1, r1);
+    evaluate(root, PoseBatchCost::kSquareRootRows, J2, r2);
+    const Eigen::MatrixXd A1 = J1.transpose() * J1, A2 = J2.transpose() * J2;
+    const Eigen::VectorXd g1 = J1.transpose() * r1, g2 = J2.transpose() * r2;
+    EXPECT_LT((A1 - A2).cwiseAbs().maxCoeff(), 1e-9 * A1.cwiseAbs().maxCoeff());
+    EXPECT_LT((g1 - g2).cwiseAbs().maxCoeff(), 1e-9 * g1.cwiseAbs().maxCoeff() + 1e-12);
+    EXPECT_EQ(rows.last_robust_sum(), root.last_robust_sum());
+    // The model of any step agrees: |J d|^2 and (J d).r.
+    const Eigen::Matrix<double, 7, 1> d = Eigen::Matrix<double, 7, 1>::Constant(1e-3);
+    EXPECT_NEAR((J1 * d).squaredNorm(), (J2 * d).squaredNorm(), 1e-9 * (J1 * d).squaredNorm());
+    EXPECT_NEAR((J1 * d).dot(r1), (J2 * d).dot(r2), 1e-9 * std::abs((J1 * d).dot(r1)) + 1e-12);
+  }
 }
 
 TEST(PoseBatchCost, OptimisationTakesTheSameStepsAsPerObservationBlocks) {

@@ -17,6 +17,15 @@
 // by 1. So cost, gradient and Gauss-Newton model are the per-observation ones, summed in
 // another order: the iterates agree up to floating-point rounding (test_optimize_pose_batch).
 // Observations sitting out a round are inactive: zero rows, no cost, as if absent.
+//
+// Square-root form (the default): Ceres' trust-region step, its model cost change, Jacobi
+// scaling and gradient depend on the Jacobian J and residuals r only through J^T J and J^T r
+// (DENSE_NORMAL_CHOLESKY solves the normal equations; model change = -(J d).(r + J d / 2)).
+// So instead of ~900 rows the block hands Ceres 7 rows (R, r') with R^T R = J^T J and
+// R^T r' = J^T r, from a pivoted LDL^T of the 7 x 7 normal matrix: the same steps, without
+// Ceres' per-row work (validity checks, column scaling, the manifold product, the dense
+// Jacobian copy and product), which was half the cost of a solve. The block's cost is still
+// the per-observation robust sum (PairedCostLoss), not |r'|^2 / 2.
 #pragma once
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
@@ -32,10 +41,14 @@ namespace optimize_detail {
 
 class PoseBatchCost : public ceres::CostFunction {
  public:
-  // Parameters: quaternion (x, y, z, w) [4] and translation [3] of T_cw; residual rows:
-  // 3 per stereo observation, 2 per monocular one, in the order given.
+  // kRows: 3 residual rows per stereo observation, 2 per monocular one, in the order given
+  // (the per-observation rows, for tests); kSquareRoot: 7 rows as explained above.
+  enum class Form { kRows, kSquareRoot };
+  static constexpr int kSquareRootRows = 7;
+
+  // Parameters: quaternion (x, y, z, w) [4] and translation [3] of T_cw.
   PoseBatchCost(const PinholeCamera& cam, const std::vector<PixelMeasurement>& measurements,
-                const std::vector<Eigen::Vector3d>& points_world);
+                const std::vector<Eigen::Vector3d>& points_world, Form form = Form::kSquareRoot);
 
   // Which observations take part (default: all), and whether the Huber kernel applies
   // (delta sqrt(5.991) mono, sqrt(7.815) stereo, as the per-observation version).
@@ -58,7 +71,12 @@ class PoseBatchCost : public ceres::CostFunction {
     bool stereo;
     int first_row;
   };
+  // R, r' of the square-root form from A (upper triangle used) and g into Ceres' arrays.
+  void write_square_root(const Eigen::Matrix<double, 7, 7>& A_upper, const Eigen::Matrix<double, 7, 1>& g,
+                         double* residuals, double** jacobians) const;
+
   double fx_, fy_, cx_, cy_, bf_;
+  Form form_;
   std::vector<Observation> obs_;
   std::vector<char> active_;
   bool robust_ = true;
