@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace edge_slam {
 namespace optimize_detail {
@@ -12,8 +13,8 @@ PoseBatchCost::PoseBatchCost(const PinholeCamera& cam, const std::vector<PixelMe
     : fx_(cam.fx), fy_(cam.fy), cx_(cam.cx), cy_(cam.cy), bf_(cam.bf),
       form_(form),
       active_(measurements.size(), 1),
-      huber_mono_(std::sqrt(kChi2Mono)),
-      huber_stereo_(std::sqrt(kChi2Stereo)) {
+      huber_delta_mono_(std::sqrt(kChi2Mono)),
+      huber_delta_stereo_(std::sqrt(kChi2Stereo)) {
   int rows = 0;
   obs_.reserve(measurements.size());
   for (size_t i = 0; i < measurements.size(); ++i) {
@@ -60,10 +61,15 @@ bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals,
       // The per-observation loss and Ceres' first-order correction (Huber: rho'' <= 0).
       double scale = 1.0;
       if (robust_) {
-        double rho[3];
-        (o.stereo ? huber_stereo_ : huber_mono_).Evaluate(s, rho);
-        sum += rho[0];
-        scale = std::sqrt(rho[1]);
+        // ceres::HuberLoss::Evaluate, inline (it is a library call per observation otherwise).
+        const double delta = o.stereo ? huber_delta_stereo_ : huber_delta_mono_;
+        if (s > delta * delta) {
+          const double root = std::sqrt(s);
+          sum += 2.0 * delta * root - delta * delta;
+          scale = std::sqrt(std::max(std::numeric_limits<double>::min(), delta / root));
+        } else {
+          sum += s;
+        }
       } else {
         sum += s;
       }
@@ -100,9 +106,9 @@ bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals,
           for (int c = 0; c < 3; ++c) jacobians[1][3 * (o.first_row + k) + c] = J[k][4 + c];
       }
     } else if (want_jacobian && active_[i]) {
-      for (int k = 0; k < n; ++k) {
+      for (int k = 0; k < n; ++k) {  // A += J_k^T J_k, g += J_k^T r_k
         const Eigen::Map<const Eigen::Matrix<double, 7, 1>> row(J[k]);
-        A.selfadjointView<Eigen::Upper>().rankUpdate(row);
+        A.noalias() += row * row.transpose();
         g += row * r[k];
       }
     }
@@ -112,7 +118,7 @@ bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals,
   return true;
 }
 
-void PoseBatchCost::write_square_root(const Eigen::Matrix<double, 7, 7>& A_upper, const Eigen::Matrix<double, 7, 1>& g,
+void PoseBatchCost::write_square_root(const Eigen::Matrix<double, 7, 7>& A, const Eigen::Matrix<double, 7, 1>& g,
                                       double* residuals, double** jacobians) const {
   if (jacobians == nullptr) {  // a cost-only evaluation: Ceres reads the cost, not these rows
     std::fill(residuals, residuals + kSquareRootRows, 0.0);
@@ -120,7 +126,6 @@ void PoseBatchCost::write_square_root(const Eigen::Matrix<double, 7, 7>& A_upper
   }
   // A = P^T L D L^T P (pivoted LDL^T: A is only semi-definite). R = D^1/2 L^T P gives
   // R^T R = A, and r' = D^-1/2 L^-1 P g gives R^T r' = g (g = J^T r lies in A's range).
-  const Eigen::Matrix<double, 7, 7> A = A_upper.selfadjointView<Eigen::Upper>();
   const Eigen::LDLT<Eigen::Matrix<double, 7, 7>> ldlt(A);
   const Eigen::PermutationMatrix<7> P(ldlt.transpositionsP());
   Eigen::Matrix<double, 7, 7> R = Eigen::Matrix<double, 7, 7>(ldlt.matrixU()) * P;  // L^T P

@@ -71,8 +71,8 @@ class PoseBatchCost : public ceres::CostFunction {
     bool stereo;
     int first_row;
   };
-  // R, r' of the square-root form from A (upper triangle used) and g into Ceres' arrays.
-  void write_square_root(const Eigen::Matrix<double, 7, 7>& A_upper, const Eigen::Matrix<double, 7, 1>& g,
+  // R, r' of the square-root form from A and g into Ceres' arrays.
+  void write_square_root(const Eigen::Matrix<double, 7, 7>& A, const Eigen::Matrix<double, 7, 1>& g,
                          double* residuals, double** jacobians) const;
 
   double fx_, fy_, cx_, cy_, bf_;
@@ -80,7 +80,7 @@ class PoseBatchCost : public ceres::CostFunction {
   std::vector<Observation> obs_;
   std::vector<char> active_;
   bool robust_ = true;
-  ceres::HuberLoss huber_mono_, huber_stereo_;
+  double huber_delta_mono_, huber_delta_stereo_;  // ceres::HuberLoss(delta), evaluated inline
   mutable double robust_sum_ = 0.0;
 };
 
