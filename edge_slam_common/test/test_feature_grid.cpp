@@ -47,6 +47,12 @@ std::vector<cv::KeyPoint> random_keys(std::mt19937& rng, const ImageBounds& b, i
   }
   // Clusters: many keypoints in one cell, and exact duplicates.
   for (int i = 0; i < 40; ++i) keys.push_back(cv::KeyPoint(100.2f + 0.1f * (i % 5), 200.7f, 31.f, -1, 0, i % 8));
+  // Octaves outside the usual 0-7 (records from elsewhere): they must still be found exactly.
+  for (int i = 0; i < 30; ++i) {
+    cv::KeyPoint k(ux(rng), uy(rng), 31.f);
+    k.octave = i % 3 == 0 ? -2 : i % 3 == 1 ? 12 : 40;
+    keys.push_back(k);
+  }
   return keys;
 }
 
@@ -59,11 +65,12 @@ TEST(FeatureGrid, MatchesBruteForceScanInOrder) {
   const FeatureGrid grid(keys, bounds);
   std::uniform_real_distribution<float> ux(bounds.min_x - 20, bounds.max_x + 20), uy(bounds.min_y - 20, bounds.max_y + 20);
   std::uniform_real_distribution<float> ur(0.f, 60.f);
-  std::uniform_int_distribution<int> level(-1, 8);
+  std::uniform_int_distribution<int> level(-3, 14);
   std::vector<size_t> got;
   size_t non_empty = 0;
   for (int q = 0; q < 3000; ++q) {
-    const float x = q % 10 == 0 ? 100.3f : ux(rng), y = q % 10 == 0 ? 200.7f : uy(rng), r = ur(rng);
+    const float x = q % 10 == 0 ? 100.3f : ux(rng), y = q % 10 == 0 ? 200.7f : uy(rng);
+    const float r = q % 50 == 0 ? 400.f : ur(rng);
     const int lo = level(rng), hi = q % 3 == 0 ? -1 : level(rng);
     grid.in_area(x, y, r, lo, hi, got);
     const std::vector<size_t> want = brute_force(keys, bounds, x, y, r, lo, hi);
