@@ -1,9 +1,11 @@
 // Micro-benchmark: our OrbExtractor against cv::ORB (1000 features, scale 1.2, 8 levels),
 // interleaved frame by frame in one run so both see the same machine load.
-// Usage: orb_benchmark <TUM sequence folder | image folder> [--frames N] [--cv-threads N] [--json FILE]
+// Usage: orb_benchmark <TUM sequence folder | image folder> [--frames N] [--cv-threads N] [--match-count] [--json FILE]
 // --cv-threads sets OpenCV's internal thread pool (blur/resize may use it in both extractors).
 // Both wall and CPU time of the calling thread are reported; with --cv-threads 1 all the work
 // is on that thread, so the CPU ratio is the battery cost and does not move with other load.
+// --match-count asks cv::ORB for as many features as make its mean keypoint count on the first
+// frames match ours (it returns fewer than asked for), so both do the same amount of work.
 // --json writes the figures for the benchmark report (scripts/bench/speed.py).
 #include <time.h>
 
@@ -131,17 +133,20 @@ std::pair<double, double> time_ms(F&& f) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N] [--cv-threads N] [--json FILE]\n";
+    std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N] [--cv-threads N] [--match-count] [--json FILE]\n";
     return 2;
   }
   size_t max_frames = 0;  // 0 = all
   std::string json_path;
+  bool match_count = false;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--frames" && i + 1 < argc) {
       max_frames = std::stoul(argv[++i]);
     } else if (arg == "--cv-threads" && i + 1 < argc) {
       cv::setNumThreads(std::stoi(argv[++i]));
+    } else if (arg == "--match-count") {
+      match_count = true;
     } else if (arg == "--json" && i + 1 < argc) {
       json_path = argv[++i];
     } else {
@@ -157,7 +162,35 @@ int main(int argc, char** argv) {
   }
 
   const edge_slam::OrbExtractor ours;
-  const cv::Ptr<cv::ORB> opencv = cv::ORB::create(1000, 1.2f, 8);
+  int opencv_features = 1000;
+  if (match_count) {
+    // Mean keypoints of both on the first frames; scale cv::ORB's request until it gives ours.
+    std::vector<cv::Mat> sample;
+    for (size_t k = 0; k < images.size() && sample.size() < 20; ++k) {
+      cv::Mat c = cv::imread(images[k].string(), cv::IMREAD_COLOR), g;
+      if (c.empty()) continue;
+      cv::cvtColor(c, g, cv::COLOR_BGR2GRAY);
+      sample.push_back(g);
+    }
+    auto mean_count = [&](auto&& extract) {
+      double n = 0;
+      std::vector<cv::KeyPoint> kps;
+      cv::Mat desc;
+      for (const cv::Mat& g : sample) {
+        extract(g, kps, desc);
+        n += static_cast<double>(kps.size());
+      }
+      return sample.empty() ? 0.0 : n / sample.size();
+    };
+    const double want = mean_count([&](const cv::Mat& g, auto& k, auto& d) { ours.extract(g, k, d); });
+    for (int round = 0; round < 4 && want > 0; ++round) {
+      const cv::Ptr<cv::ORB> probe = cv::ORB::create(opencv_features, 1.2f, 8);
+      const double got = mean_count([&](const cv::Mat& g, auto& k, auto& d) { probe->detectAndCompute(g, cv::noArray(), k, d); });
+      if (got <= 0 || std::abs(got - want) < 0.005 * want) break;
+      opencv_features = static_cast<int>(std::lround(opencv_features * want / got));
+    }
+  }
+  const cv::Ptr<cv::ORB> opencv = cv::ORB::create(opencv_features, 1.2f, 8);
   Stats ours_stats, opencv_stats;
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
@@ -188,8 +221,9 @@ int main(int argc, char** argv) {
     }
   }
   if (ours_stats.ms.empty()) return 1;
-  std::printf("%zu frames from %s (%d x %d), OpenCV threads %d\n", ours_stats.ms.size(), argv[1], cv::imread(images[0].string()).cols,
-              cv::imread(images[0].string()).rows, cv::getNumThreads());
+  std::printf("%zu frames from %s (%d x %d), OpenCV threads %d, cv::ORB asked for %d features\n", ours_stats.ms.size(),
+              argv[1], cv::imread(images[0].string()).cols, cv::imread(images[0].string()).rows, cv::getNumThreads(),
+              opencv_features);
   ours_stats.print("ours");
   opencv_stats.print("cv::ORB");
   const double wall_ratio = mean_of(ours_stats.ms) / mean_of(opencv_stats.ms);
@@ -198,6 +232,7 @@ int main(int argc, char** argv) {
   if (!json_path.empty()) {
     std::ofstream out(json_path);
     out << "{\"frames\": " << ours_stats.ms.size() << ", \"cv_threads\": " << cv::getNumThreads()
+        << ", \"opencv_nfeatures\": " << opencv_features
         << ", \"ours\": " << ours_stats.json() << ", \"opencv\": " << opencv_stats.json()
         << ", \"ratio_wall\": " << wall_ratio << ", \"ratio_cpu\": " << cpu_ratio << "}\n";
     if (!out) {
