@@ -7,6 +7,9 @@ Runs, on each dataset and in one go so that ratios compare like with like:
   split_controller split with the map-update controller disabling updates around the
                    sequence's fastest turn (found in its ground truth; planner_example)
   *_blank          both modes on a copy with 1 s of black colour frames (relocalization)
+  speed            issue 15's speed figures (speed.py): tracking-only CPU per stage, ORB vs
+                   cv::ORB, the edge's KeyFrames/s on a recorded stream (local BA and split p99
+                   are read from the monolithic and split runs)
 and once the wire micro-benchmark (wire_benchmark: KeyFrame / update size, (de)serialization,
 Local-Map rebuild). Each run gets a /proc CPU+RSS sampler (20 Hz) on the mobile and edge
 processes and, in split mode, a topic-size recorder. Then report.py (venv: evo, matplotlib)
@@ -30,9 +33,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, HERE)
 from fast_turn import fast_turn  # noqa: E402
+import speed  # noqa: E402
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
-VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth", "long"]
+VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "bandwidth", "long", "speed"]
 # The long run: the embedded sequence's closed path driven 20 times at 15 fps (10 minutes),
 # made by loop_sequence.py in OUT/data (text files and symlinks, no rendering); the split plays
 # it live from the folder (tum_player), since a 10-minute bag of raw images would be ~14 GB.
@@ -260,6 +264,9 @@ def save_manifest(out_dir, manifest, previous):
         for key in ("long_run", "long_run_skipped"):
             if key in manifest:
                 merged[key] = manifest[key]
+        if "speed" in manifest:  # a dataset measured again replaces its speed entry
+            again = {e["dataset"] for e in manifest["speed"]}
+            merged["speed"] = [e for e in previous.get("speed", []) if e["dataset"] not in again] + manifest["speed"]
     json.dump(merged, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
     return merged
 
@@ -331,7 +338,8 @@ def run():
     manifest = {"machine": machine_info(), "datasets": [], "ros_master_uri": os.environ["ROS_MASTER_URI"]}
     previous = read_manifest(out_dir) if args.add else None
     with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
-    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long")])
+    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long", "speed")])
+                                         + (speed.phases() if "speed" in variants else 0)
                                          + (1 if any("blank" in v for v in variants) else 0))
                         + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
                         + (1 + len(args.long_modes.split(",")) if "long" in variants else 0)
@@ -355,6 +363,9 @@ def run():
         for variant in variants:
             if variant == "long":
                 continue  # once, after the datasets
+            if variant == "speed":
+                manifest.setdefault("speed", []).append(speed.run_speed(progress, out_dir, dataset, seconds))
+                continue
             if variant == "bandwidth":
                 bag = dataset.rstrip("/") + ".bag"
                 if os.geteuid() != 0 or not os.path.isfile(bag):

@@ -21,6 +21,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_data import (cpu_percent, frame_times, net_rows, proc_series, read_json, stats)  # noqa: E402
 import pipeline_stats  # noqa: E402
+import speed  # noqa: E402
 
 MODES = ["monolithic", "split"]
 COLORS = {"groundtruth": "0.55", "monolithic": "tab:blue", "split": "tab:orange", "edge": "tab:green",
@@ -586,6 +587,7 @@ def main():
         rep.target("KeyFrame serialize + deserialize <= 2 ms", "n/a", None)
 
     long_run(manifest, out, rep, wsec, bench)
+    bench["speed"] = speed.speed_section(rep, wsec, out, manifest)
 
     # Assemble: header, targets, per-dataset sections, wire section, what is not measured.
     m = manifest.get("machine", {})
