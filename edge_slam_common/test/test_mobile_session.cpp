@@ -193,7 +193,12 @@ TEST(SplitSessions, KeyFramesReachTheEdgeAndUpdatesComeBack) {
       EXPECT_TRUE(out.error.empty()) << out.error;
       if (out.decision == UpdateDecision::kAccept) {
         ++applied;
-        EXPECT_EQ(mobile.local_map_keyframes(), update->keyframes.size());
+        // Merged in place (update_install: merge): the update's KeyFrames are all there, the
+        // Local-Map KeyFrames it did not hold stay, within the cap.
+        for (const KeyFrameRecord& k : update->keyframes)
+          EXPECT_TRUE(mobile.local_map()->keyframe(k.id)) << "update KeyFrame " << k.id;
+        EXPECT_GE(mobile.local_map_keyframes(), update->keyframes.size());
+        EXPECT_LE(mobile.local_map_keyframes(), mobile.local_map_cap());
       }
     }
   }

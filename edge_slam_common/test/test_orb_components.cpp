@@ -127,3 +127,24 @@ TEST(OrbComponents, IntensityCentroidPointsTowardsTheBrightSide) {
     EXPECT_NEAR(diff, 0.0, 3.0) << "theta " << theta_deg;
   }
 }
+
+TEST(OrbComponents, CentroidDiscGivesTheScalarAngleExactly) {
+  // The SIMD moments (radius 15) and the scalar fallback (other radii) against the plain loop:
+  // the same integer moments, hence bit-identical angles, on texture, noise and saturated pixels.
+  cv::Mat noise(120, 160, CV_8UC1);
+  cv::randu(noise, 0, 256);
+  cv::Mat saturated(120, 160, CV_8UC1, cv::Scalar(255));
+  saturated(cv::Rect(0, 0, 80, 120)).setTo(0);
+  const std::vector<cv::Mat> images = {make_synthetic_texture(cv::Size(160, 120), 3), noise, saturated};
+  for (int radius : {kOrbPatchRadius, 7, 20}) {
+    const CentroidDisc disc(radius);
+    ASSERT_EQ(disc.half_widths(), disc_half_widths(radius));
+    int compared = 0;
+    for (const cv::Mat& image : images)
+      for (int y = radius + 1; y < image.rows - radius - 1; y += 7)
+        for (int x = std::max(radius, 16) + 1; x < image.cols - std::max(radius, 16) - 1; x += 5, ++compared)
+          ASSERT_EQ(disc.angle(image, x, y), intensity_centroid_angle(image, x, y, disc.half_widths()))
+              << "radius " << radius << " at " << x << "," << y;
+    EXPECT_GT(compared, 500);
+  }
+}

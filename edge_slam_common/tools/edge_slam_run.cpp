@@ -168,8 +168,9 @@ int main(int argc, char** argv) {
     frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms,"
                  "path,initial_matches,initial_inliers,local_map_points,matches_before_final,reference_points,"
                  "tracked_close,untracked_close,keyframe_conditions,prediction_error_cm,prediction_error_deg,"
-                 "mapping_queue,local_ba_aborted,weak_pose\n"
-              << std::fixed;
+                 "mapping_queue,local_ba_aborted,weak_pose";
+    for (int s = 0; s < kTrackingStages; ++s) frame_log << ',' << to_string(static_cast<TrackingStage>(s)) << "_cpu_ms";
+    frame_log << '\n' << std::fixed;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
       if (pace == "realtime") {  // do not run ahead of the camera
@@ -198,7 +199,9 @@ int main(int argc, char** argv) {
                 << r.diag.untracked_close << ',' << r.diag.keyframe_conditions << ',' << r.diag.prediction_error_m * 100
                 << ',' << r.diag.prediction_error_deg << ',' << (slam.local_mapping() ? slam.local_mapping()->queued() : 0)
                 << ',' << (slam.local_mapping() ? slam.local_mapping()->stats().local_ba_aborted : 0) << ','
-                << r.diag.weak_pose << '\n';
+                << r.diag.weak_pose;
+      for (double ms : r.stages.cpu_ms) frame_log << ',' << ms;
+      frame_log << '\n';
       if (processed % 100 == 0)
         std::cerr << "frame " << i + 1 << "/" << n << "  keyframes " << map->num_keyframes() << "  points "
                   << map->num_map_points() << "  inliers " << r.inliers << "  " << std::fixed
@@ -228,6 +231,18 @@ int main(int argc, char** argv) {
         .integer("map_points", static_cast<long long>(map->num_map_points()));
     add_module_figures(m, collect_module_figures(slam.local_mapping(), slam.loop_closing()));
     m.timing("tracking_cpu_ms", tracking.frame_cpu_times_ms()).timing("tracking_ms", tracking.frame_times_ms());
+    // Per stage (util/stage_clock.h), CPU and wall: {"extract": {count, mean, median, p95, max}, ...}.
+    MetricsJson stage_cpu, stage_wall;
+    for (int s = 0; s < kTrackingStages; ++s) {
+      std::vector<double> cpu_ms, wall_ms;
+      for (const TrackingStageTimes& t : tracking.frame_stage_times()) {
+        cpu_ms.push_back(t.cpu_ms[s]);
+        wall_ms.push_back(t.wall_ms[s]);
+      }
+      stage_cpu.timing(to_string(static_cast<TrackingStage>(s)), cpu_ms);
+      stage_wall.timing(to_string(static_cast<TrackingStage>(s)), wall_ms);
+    }
+    m.object("tracking_stage_cpu_ms", stage_cpu).object("tracking_stage_ms", stage_wall);
     m.write(out_dir + "/metrics.json");
     std::cout << "frames " << processed << ", tracked " << c.frames_tracked << ", lost " << c.times_lost
               << " times, relocalized " << c.relocalizations << ", keyframes " << map->num_keyframes()

@@ -1,7 +1,14 @@
 // Micro-benchmark: our OrbExtractor against cv::ORB (1000 features, scale 1.2, 8 levels),
 // interleaved frame by frame in one run so both see the same machine load.
-// Usage: orb_benchmark <TUM sequence folder | image folder> [--frames N] [--cv-threads N]
+// Usage: orb_benchmark <TUM sequence folder | image folder> [--frames N] [--cv-threads N] [--match-count] [--json FILE]
 // --cv-threads sets OpenCV's internal thread pool (blur/resize may use it in both extractors).
+// Both wall and CPU time of the calling thread are reported; with --cv-threads 1 all the work
+// is on that thread, so the CPU ratio is the battery cost and does not move with other load.
+// --match-count asks cv::ORB for as many features as make its mean keypoint count on the first
+// frames match ours (it returns fewer than asked for), so both do the same amount of work.
+// --json writes the figures for the benchmark report (scripts/bench/speed.py).
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -73,31 +80,53 @@ Coverage coverage_of(const std::vector<cv::KeyPoint>& keypoints, const cv::Size&
 
 struct Stats {
   std::vector<double> ms;
+  std::vector<double> cpu_ms;
   std::vector<double> counts;
   std::vector<double> fullest_over_share;
   std::vector<double> occupied_fraction;
-  void add(double elapsed_ms, const std::vector<cv::KeyPoint>& keypoints, const cv::Size& size) {
+  void add(double elapsed_ms, double elapsed_cpu_ms, const std::vector<cv::KeyPoint>& keypoints, const cv::Size& size) {
     ms.push_back(elapsed_ms);
+    cpu_ms.push_back(elapsed_cpu_ms);
     counts.push_back(static_cast<double>(keypoints.size()));
     const Coverage c = coverage_of(keypoints, size);
     fullest_over_share.push_back(c.fullest_over_share);
     occupied_fraction.push_back(c.occupied_fraction);
   }
+  static double median_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  }
   void print(const char* name) const {
-    std::vector<double> sorted = ms;
-    std::sort(sorted.begin(), sorted.end());
-    std::printf("%-8s mean %6.2f ms  median %6.2f ms  %6.1f kp/frame  fullest 4x4 cell %.2fx share  "
-                "40px cells occupied %.0f%%\n",
-                name, mean_of(ms), sorted[sorted.size() / 2], mean_of(counts), mean_of(fullest_over_share),
-                100.0 * mean_of(occupied_fraction));
+    std::printf("%-8s wall mean %6.2f median %6.2f ms | cpu mean %6.2f median %6.2f ms | %6.1f kp/frame  "
+                "fullest 4x4 cell %.2fx share  40px cells occupied %.0f%%\n",
+                name, mean_of(ms), median_of(ms), mean_of(cpu_ms), median_of(cpu_ms), mean_of(counts),
+                mean_of(fullest_over_share), 100.0 * mean_of(occupied_fraction));
+  }
+  std::string json() const {
+    char buf[512];
+    std::snprintf(buf, sizeof(buf),
+                  "{\"wall_mean_ms\": %.4f, \"wall_median_ms\": %.4f, \"cpu_mean_ms\": %.4f, \"cpu_median_ms\": %.4f, "
+                  "\"keypoints_mean\": %.1f, \"fullest_4x4_over_share\": %.3f, \"occupied_40px\": %.3f}",
+                  mean_of(ms), median_of(ms), mean_of(cpu_ms), median_of(cpu_ms), mean_of(counts),
+                  mean_of(fullest_over_share), mean_of(occupied_fraction));
+    return buf;
   }
 };
 
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// Wall and thread-CPU milliseconds of f().
 template <typename F>
-double time_ms(F&& f) {
+std::pair<double, double> time_ms(F&& f) {
+  const double cpu0 = thread_cpu_ms();
   const auto start = std::chrono::steady_clock::now();
   f();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+          thread_cpu_ms() - cpu0};
 }
 
 }  // namespace
@@ -105,16 +134,22 @@ double time_ms(F&& f) {
 int main(int argc, char** argv) {
   const bool help = argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h");
   if (argc < 2 || help) {
-    std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N] [--cv-threads N]\n";
+    std::cerr << "usage: orb_benchmark <TUM folder | image folder> [--frames N] [--cv-threads N] [--match-count] [--json FILE]\n";
     return help ? 0 : 2;
   }
   size_t max_frames = 0;  // 0 = all
+  std::string json_path;
+  bool match_count = false;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--frames" && i + 1 < argc) {
       max_frames = std::stoul(argv[++i]);
     } else if (arg == "--cv-threads" && i + 1 < argc) {
       cv::setNumThreads(std::stoi(argv[++i]));
+    } else if (arg == "--match-count") {
+      match_count = true;
+    } else if (arg == "--json" && i + 1 < argc) {
+      json_path = argv[++i];
     } else {
       std::cerr << "unknown argument " << arg << "\n";
       return 2;
@@ -128,7 +163,35 @@ int main(int argc, char** argv) {
   }
 
   const edge_slam::OrbExtractor ours;
-  const cv::Ptr<cv::ORB> opencv = cv::ORB::create(1000, 1.2f, 8);
+  int opencv_features = 1000;
+  if (match_count) {
+    // Mean keypoints of both on the first frames; scale cv::ORB's request until it gives ours.
+    std::vector<cv::Mat> sample;
+    for (size_t k = 0; k < images.size() && sample.size() < 20; ++k) {
+      cv::Mat c = cv::imread(images[k].string(), cv::IMREAD_COLOR), g;
+      if (c.empty()) continue;
+      cv::cvtColor(c, g, cv::COLOR_BGR2GRAY);
+      sample.push_back(g);
+    }
+    auto mean_count = [&](auto&& extract) {
+      double n = 0;
+      std::vector<cv::KeyPoint> kps;
+      cv::Mat desc;
+      for (const cv::Mat& g : sample) {
+        extract(g, kps, desc);
+        n += static_cast<double>(kps.size());
+      }
+      return sample.empty() ? 0.0 : n / sample.size();
+    };
+    const double want = mean_count([&](const cv::Mat& g, auto& k, auto& d) { ours.extract(g, k, d); });
+    for (int round = 0; round < 4 && want > 0; ++round) {
+      const cv::Ptr<cv::ORB> probe = cv::ORB::create(opencv_features, 1.2f, 8);
+      const double got = mean_count([&](const cv::Mat& g, auto& k, auto& d) { probe->detectAndCompute(g, cv::noArray(), k, d); });
+      if (got <= 0 || std::abs(got - want) < 0.005 * want) break;
+      opencv_features = static_cast<int>(std::lround(opencv_features * want / got));
+    }
+  }
+  const cv::Ptr<cv::ORB> opencv = cv::ORB::create(opencv_features, 1.2f, 8);
   Stats ours_stats, opencv_stats;
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
@@ -143,12 +206,12 @@ int main(int argc, char** argv) {
     cv::cvtColor(color, gray, cv::COLOR_BGR2GRAY);
     // Alternate which one runs first so cache warmth does not favour either.
     auto run_ours = [&] {
-      const double elapsed = time_ms([&] { ours.extract(gray, keypoints, descriptors); });
-      ours_stats.add(elapsed, keypoints, gray.size());
+      const auto [wall, cpu] = time_ms([&] { ours.extract(gray, keypoints, descriptors); });
+      ours_stats.add(wall, cpu, keypoints, gray.size());
     };
     auto run_opencv = [&] {
-      const double elapsed = time_ms([&] { opencv->detectAndCompute(gray, cv::noArray(), keypoints, descriptors); });
-      opencv_stats.add(elapsed, keypoints, gray.size());
+      const auto [wall, cpu] = time_ms([&] { opencv->detectAndCompute(gray, cv::noArray(), keypoints, descriptors); });
+      opencv_stats.add(wall, cpu, keypoints, gray.size());
     };
     if (frame++ % 2 == 0) {
       run_ours();
@@ -159,10 +222,24 @@ int main(int argc, char** argv) {
     }
   }
   if (ours_stats.ms.empty()) return 1;
-  std::printf("%zu frames from %s (%d x %d), OpenCV threads %d\n", ours_stats.ms.size(), argv[1], cv::imread(images[0].string()).cols,
-              cv::imread(images[0].string()).rows, cv::getNumThreads());
+  std::printf("%zu frames from %s (%d x %d), OpenCV threads %d, cv::ORB asked for %d features\n", ours_stats.ms.size(),
+              argv[1], cv::imread(images[0].string()).cols, cv::imread(images[0].string()).rows, cv::getNumThreads(),
+              opencv_features);
   ours_stats.print("ours");
   opencv_stats.print("cv::ORB");
-  std::printf("ours / cv::ORB time ratio (means): %.2f\n", mean_of(ours_stats.ms) / mean_of(opencv_stats.ms));
+  const double wall_ratio = mean_of(ours_stats.ms) / mean_of(opencv_stats.ms);
+  const double cpu_ratio = mean_of(ours_stats.cpu_ms) / mean_of(opencv_stats.cpu_ms);
+  std::printf("ours / cv::ORB time ratio (means): wall %.2f, cpu %.2f\n", wall_ratio, cpu_ratio);
+  if (!json_path.empty()) {
+    std::ofstream out(json_path);
+    out << "{\"frames\": " << ours_stats.ms.size() << ", \"cv_threads\": " << cv::getNumThreads()
+        << ", \"opencv_nfeatures\": " << opencv_features
+        << ", \"ours\": " << ours_stats.json() << ", \"opencv\": " << opencv_stats.json()
+        << ", \"ratio_wall\": " << wall_ratio << ", \"ratio_cpu\": " << cpu_ratio << "}\n";
+    if (!out) {
+      std::cerr << "orb_benchmark: cannot write " << json_path << "\n";
+      return 1;
+    }
+  }
   return 0;
 }

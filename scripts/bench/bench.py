@@ -9,6 +9,9 @@ Runs, on each dataset and in one go so that ratios compare like with like:
   *_blank          both modes on a copy with 1 s of black colour frames (relocalization)
   robustness       N pairs (--robust-runs, default 5) of monolithic then split, back to back:
                    the spread of the final and online ATE (issue #13)
+  speed            issue 15's speed figures (speed.py): tracking-only CPU per stage, ORB vs
+                   cv::ORB, the edge's KeyFrames/s on a recorded stream (local BA and split p99
+                   are read from the monolithic and split runs)
 and once the wire micro-benchmark (wire_benchmark: KeyFrame / update size, (de)serialization,
 Local-Map rebuild). Each run gets a /proc CPU+RSS sampler (20 Hz) on the mobile and edge
 processes and, in split mode, a topic-size recorder. Then report.py (venv: evo, matplotlib)
@@ -31,6 +34,7 @@ import time
 
 from edge_slam_common.tum import list_seconds
 
+from . import speed
 from .fast_turn import fast_turn
 from .ros_util import wait_for_service
 
@@ -40,7 +44,7 @@ SCRIPTS = os.path.dirname(HERE)
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
 VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "robustness", "bandwidth",
-            "long"]
+            "long", "speed"]
 ROBUST_RUNS = 5
 # The long run: the embedded sequence's closed path driven 20 times at 15 fps (10 minutes),
 # made by loop_sequence.py in OUT/data (text files and symlinks, no rendering); the split plays
@@ -258,6 +262,9 @@ def save_manifest(out_dir, manifest, previous):
         for key in ("long_run", "long_run_skipped"):
             if key in manifest:
                 merged[key] = manifest[key]
+        if "speed" in manifest:  # a dataset measured again replaces its speed entry
+            again = {e["dataset"] for e in manifest["speed"]}
+            merged["speed"] = [e for e in previous.get("speed", []) if e["dataset"] not in again] + manifest["speed"]
     json.dump(merged, open(os.path.join(out_dir, "manifest.json"), "w"), indent=2)
     return merged
 
@@ -337,8 +344,10 @@ def run():
     with_bag = sum(os.path.isfile(d.rstrip("/") + ".bag") for d in datasets) if os.geteuid() == 0 else 0
     if args.robust_runs < 1:
         sys.exit("bench: --robust-runs must be >= 1")
-    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long", "robustness")])
+    progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long", "robustness",
+                                                                              "speed")])
                                          + (2 * args.robust_runs if "robustness" in variants else 0)
+                                         + (speed.phases() if "speed" in variants else 0)
                                          + (1 if any("blank" in v for v in variants) else 0))
                         + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
                         + (1 + len(args.long_modes.split(",")) if "long" in variants else 0)
@@ -373,6 +382,9 @@ def run():
                 for name in robust_variants(args.robust_runs):
                     extra = 45 if "split" in name else 25
                     entry["runs"].append(run_variant(progress, out_dir, dataset, name, blank_dir, turn, seconds + extra))
+                continue
+            if variant == "speed":
+                manifest.setdefault("speed", []).append(speed.run_speed(progress, out_dir, dataset, seconds))
                 continue
             if variant == "bandwidth":
                 bag = dataset.rstrip("/") + ".bag"

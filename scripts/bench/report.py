@@ -22,6 +22,7 @@ import numpy as np  # noqa: E402
 
 from . import ate as ate_tool  # noqa: E402
 from . import pipeline_stats  # noqa: E402
+from . import speed  # noqa: E402
 from .bench_data import cpu_percent, net_rows, proc_series, read_json  # noqa: E402
 from edge_slam_common.tum import pose_seconds  # noqa: E402
 
@@ -767,6 +768,7 @@ def main():
             section(c)
     section_wire(wire, rep, tail)
     section_long_run(manifest, out, rep, tail, bench)
+    bench["speed"] = speed.speed_section(rep, tail, out, manifest)
     header(rep, manifest)
     rep.md += body.md + tail.md
     not_measured(rep, manifest)

@@ -95,7 +95,8 @@ def _shorter(seq):
 def _camera_and_features(rng):
     bad_float = [float('nan'), float('inf'), -float('inf')]
     return {
-        'version': lambda m: setattr(m, 'version', rng.choice([0] + list(range(2, 256)))),
+        # any version but the message's own (KeyFrame and Frame formats move independently)
+        'version': lambda m: setattr(m, 'version', rng.choice([v for v in range(256) if v != m.FORMAT_VERSION])),
         'fx_zero': lambda m: m.intrinsics.__setitem__(0, 0.0),
         'fy_negative': lambda m: m.intrinsics.__setitem__(1, -rng.uniform(1, 1000)),
         'intrinsics_not_finite': lambda m: m.intrinsics.__setitem__(rng.randint(0, 3), rng.choice(bad_float)),
@@ -218,7 +219,8 @@ def map_update_mutations(rng):
             setattr(p, name, _shorter(getattr(p, name)))
 
     return {
-        'version': lambda m: setattr(m, 'version', rng.choice([0] + list(range(2, 256)))),
+        # any version but the message's own (KeyFrame and Frame formats move independently)
+        'version': lambda m: setattr(m, 'version', rng.choice([v for v in range(256) if v != m.FORMAT_VERSION])),
         'kind_unknown': lambda m: setattr(m, 'kind', rng.randint(2, 255)),
         'keyframe_invalid': in_keyframe,
         'keyframe_id_repeated': lambda m: setattr(m.keyframes[1], 'id', m.keyframes[0].id),

@@ -109,8 +109,12 @@ class ValidationTest(unittest.TestCase):
             pubs[topic].publish(msg)
             sent[topic] += 1
             kinds[name] += 1
-        system.wait_until(lambda: all(self.counted()[t] - base[t] >= sent[t] for t in TYPES), 30,
-                          'every malformed message to be counted')
+        try:
+            system.wait_until(lambda: all(self.counted()[t] - base[t] >= sent[t] for t in TYPES), 30,
+                              'every malformed message to be counted')
+        except AssertionError as e:
+            now = self.counted()
+            raise AssertionError('%s: sent %s, counted %s' % (e, dict(sent), {t: now[t] - base[t] for t in TYPES}))
         final = self.counted()
         print('sent %s in %.1f s over %d mutation kinds; counted %s' % (
             dict(sent), time.time() - start, len(kinds), {t: final[t] - base[t] for t in TYPES}), file=sys.stderr)

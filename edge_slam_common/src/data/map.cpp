@@ -5,10 +5,10 @@
 namespace edge_slam {
 namespace {
 template <typename T>
-std::vector<std::shared_ptr<T>> sorted_values(const std::unordered_map<uint32_t, std::shared_ptr<T>>& m) {
+std::vector<std::shared_ptr<T>> sorted_values(const FlatIdMap<std::shared_ptr<T>>& m) {
   std::vector<std::shared_ptr<T>> out;
   out.reserve(m.size());
-  for (const auto& kv : m) out.push_back(kv.second);
+  m.for_each([&](uint32_t, const std::shared_ptr<T>& v) { out.push_back(v); });
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a->id() < b->id(); });
   return out;
 }
@@ -21,12 +21,12 @@ void raise_to(std::atomic<uint32_t>& counter, uint32_t value) {
 
 void Map::add_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   std::lock_guard<std::mutex> lock(mutex_);
-  keyframes_[kf->id()] = kf;
+  keyframes_.put(kf->id(), kf);
   raise_to(next_kf_id_, kf->id() + 1);
 }
 void Map::add_map_point(const std::shared_ptr<MapPoint>& mp) {
   std::lock_guard<std::mutex> lock(mutex_);
-  map_points_[mp->id()] = mp;
+  map_points_.put(mp->id(), mp);
   raise_map_point_ids_past(mp->id());
 }
 void Map::raise_map_point_ids_past(uint32_t id) {
@@ -37,8 +37,9 @@ void Map::set_map_point_id_space(uint32_t first, uint32_t end) {
   mp_id_first_ = first;
   mp_id_end_ = end;
   uint32_t highest = first;
-  for (const auto& kv : map_points_)
-    if (kv.first >= first && kv.first < end) highest = std::max(highest, kv.first + 1);
+  map_points_.for_each([&](uint32_t id, const std::shared_ptr<MapPoint>&) {
+    if (id >= first && id < end) highest = std::max(highest, id + 1);
+  });
   next_mp_id_ = highest;
 }
 void Map::erase_keyframe(uint32_t id) {
@@ -51,21 +52,27 @@ void Map::erase_map_point(uint32_t id) {
 }
 std::shared_ptr<KeyFrame> Map::keyframe(uint32_t id) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = keyframes_.find(id);
-  return it == keyframes_.end() ? nullptr : it->second;
+  const auto* kf = keyframes_.find(id);
+  return kf ? *kf : nullptr;
 }
 std::shared_ptr<MapPoint> Map::map_point(uint32_t id) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = map_points_.find(id);
-  return it == map_points_.end() ? nullptr : it->second;
+  const auto* mp = map_points_.find(id);
+  return mp ? *mp : nullptr;
 }
 std::vector<std::shared_ptr<MapPoint>> Map::map_points(const std::vector<uint32_t>& ids) const {
   std::vector<std::shared_ptr<MapPoint>> out(ids.size());
+  // Slots and then the points' control blocks are fetched ahead: lookups of scattered ids
+  // overlap their cache misses instead of waiting for each in turn.
+  constexpr size_t kSlotAhead = 16, kPointAhead = 8;
   std::lock_guard<std::mutex> lock(mutex_);
   for (size_t i = 0; i < ids.size(); ++i) {
+    if (i + kSlotAhead < ids.size() && ids[i + kSlotAhead] != kNoId)
+      __builtin_prefetch(map_points_.slot_address(ids[i + kSlotAhead]));
+    if (i + kPointAhead < ids.size() && ids[i + kPointAhead] != kNoId)
+      if (const auto* ahead = map_points_.find(ids[i + kPointAhead])) __builtin_prefetch(ahead->get());
     if (ids[i] == kNoId) continue;
-    const auto it = map_points_.find(ids[i]);
-    if (it != map_points_.end()) out[i] = it->second;
+    if (const auto* mp = map_points_.find(ids[i])) out[i] = *mp;
   }
   return out;
 }
@@ -103,11 +110,11 @@ void Map::rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
     keyframes_.reserve(kfs.size());
     map_points_.reserve(mps.size());
     for (const auto& kf : kfs) {
-      keyframes_[kf->id()] = kf;
+      keyframes_.put(kf->id(), kf);
       raise_to(next_kf_id_, kf->id() + 1);
     }
     for (const auto& mp : mps) {
-      map_points_[mp->id()] = mp;
+      map_points_.put(mp->id(), mp);
       raise_map_point_ids_past(mp->id());
     }
   }
@@ -145,8 +152,8 @@ void Map::adopt(Map& staged) {
   keyframes_.swap(staged.keyframes_);
   map_points_.swap(staged.map_points_);
   reference_map_points_.clear();
-  for (const auto& [id, kf] : keyframes_) raise_to(next_kf_id_, id + 1);
-  for (const auto& [id, mp] : map_points_) raise_map_point_ids_past(id);
+  keyframes_.for_each([&](uint32_t id, const std::shared_ptr<KeyFrame>&) { raise_to(next_kf_id_, id + 1); });
+  map_points_.for_each([&](uint32_t id, const std::shared_ptr<MapPoint>&) { raise_map_point_ids_past(id); });
 }
 
 void Map::set_reference_map_points(std::vector<std::shared_ptr<MapPoint>> mps) {

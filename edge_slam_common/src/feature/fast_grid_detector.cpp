@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <opencv2/features2d.hpp>
 
+#include "edge_slam/feature/fast_area_detector.h"
+
 namespace edge_slam {
 namespace {
 
@@ -63,7 +65,9 @@ std::vector<cv::KeyPoint> detect_fast_in_grid(const cv::Mat& image, const FastGr
     for (int c = 0; c < cols; ++c) {
       if (per_cell[static_cast<size_t>(r) * cols + c] > 0) continue;
       const cv::Rect cell_area(cell_x0(c), cell_y0(r), cell_x0(c + 1) - cell_x0(c), cell_y0(r + 1) - cell_y0(r));
-      fast_in_area(image, cell_area, params.min_threshold, corners);
+      // The same corners as fast_in_area (cv::FAST on the grown cell) without its cost per
+      // call, which for ~200 cells a frame outweighed the full-image pass.
+      fast_corners_in_area(image, cell_area, params.min_threshold, corners);
     }
   }
   return corners;

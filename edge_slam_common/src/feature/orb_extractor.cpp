@@ -25,11 +25,10 @@ cv::Mat smooth_for_descriptor(const cv::Mat& level_image) {
 
 }  // namespace
 
-OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
+OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params), disc_(kOrbPatchRadius) {
   validate_orb_params(params_);
   scales_ = make_pyramid_scales(params_.scale_factor, params_.num_levels);
   features_per_level_ = edge_slam::features_per_level(params_.num_features, params_.scale_factor, params_.num_levels);
-  disc_half_widths_ = disc_half_widths(kOrbPatchRadius);
 }
 
 void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
@@ -68,7 +67,7 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     for (cv::KeyPoint kp : level_keypoints) {
       const int x = cvRound(kp.pt.x);
       const int y = cvRound(kp.pt.y);
-      kp.angle = intensity_centroid_angle(image, x, y, disc_half_widths_);
+      kp.angle = disc_.angle(image, x, y);
       compute_rotated_brief(smoothed, x, y, kp.angle, out);
       out += kDescriptorBytes;
       kp.octave = level;

@@ -191,12 +191,13 @@ int search_by_projection(const KeyFrame& kf, const Eigen::Isometry3d& T_cw,
   for (const auto& mp : matched)
     if (mp) already.insert(mp->id());
   int n = 0;
+  std::vector<size_t> candidates;
   for (const auto& mp : points) {
     if (!mp || mp->is_bad() || already.count(mp->id())) continue;
     Projection p;
     if (!project(kf, T_cw, *mp, p)) continue;
-    const auto candidates = kf.features_in_area(static_cast<float>(p.u), static_cast<float>(p.v),
-                                                static_cast<float>(th * p.radius_scale));
+    kf.features_in_area(static_cast<float>(p.u), static_cast<float>(p.v), static_cast<float>(th * p.radius_scale), -1,
+                        -1, candidates);
     const Descriptor d = mp->descriptor();
     int best = std::numeric_limits<int>::max();
     long best_idx = -1;
@@ -222,12 +223,13 @@ int fuse(Map& map, const std::shared_ptr<KeyFrame>& kf, const Eigen::Isometry3d&
          const std::vector<std::shared_ptr<MapPoint>>& points, const FuseOptions& options) {
   const FrameFeatures& f = kf->features();
   int n = 0;
+  std::vector<size_t> candidates;
   for (const auto& mp : points) {
     if (!mp || mp->is_bad() || mp->index_in(kf->id()) >= 0) continue;
     Projection p;
     if (!project(*kf, T_cw, *mp, p)) continue;
-    const auto candidates = kf->features_in_area(static_cast<float>(p.u), static_cast<float>(p.v),
-                                                 static_cast<float>(options.th * p.radius_scale));
+    kf->features_in_area(static_cast<float>(p.u), static_cast<float>(p.v), static_cast<float>(options.th * p.radius_scale),
+                         -1, -1, candidates);
     const Descriptor d = mp->descriptor();
     int best = std::numeric_limits<int>::max();
     long best_idx = -1;

@@ -54,10 +54,15 @@ int OrbMatcher::search_by_projection(Frame& frame, const std::vector<ProjectedPo
                                      float th) const {
   const FrameFeatures& f = frame.feat();
   int matches = 0;
-  for (const ProjectedPoint& p : points) {
+  std::vector<size_t> candidates;
+  constexpr size_t kPrefetchAhead = 8;  // points: enough to cover a cache miss
+  for (size_t k = 0; k < points.size(); ++k) {
+    if (k + kPrefetchAhead < points.size() && points[k + kPrefetchAhead].mp)
+      points[k + kPrefetchAhead].mp->prefetch_descriptor();
+    const ProjectedPoint& p = points[k];
     if (!p.mp || p.mp->is_bad()) continue;
     const float r = th * radius_for_view_cos(p.view_cos) * f.pyramid->scale_factors[p.level];
-    const auto candidates = frame.features_in_area(p.u, p.v, r, p.level - 1, p.level);
+    frame.features_in_area(p.u, p.v, r, p.level - 1, p.level, candidates);
     if (candidates.empty()) continue;
     const Descriptor d = p.mp->descriptor();
     int best = std::numeric_limits<int>::max(), second = best;
@@ -100,6 +105,7 @@ int OrbMatcher::search_by_projection(Frame& frame, const Frame& last, float th) 
 
   RotationHistogram hist;
   int matches = 0;
+  std::vector<size_t> candidates;
   for (size_t i = 0; i < last.map_points.size(); ++i) {
     const auto& mp = last.map_points[i];
     if (!mp || last.outliers[i] || mp->is_bad()) continue;
@@ -110,13 +116,12 @@ int OrbMatcher::search_by_projection(Frame& frame, const Frame& last, float th) 
     if (!f.bounds.contains(u, v)) continue;
     const int level = lf.keys_un[i].octave;
     const float r = th * f.pyramid->scale_factors[level];
-    std::vector<size_t> candidates;
     if (forward)
-      candidates = frame.features_in_area(u, v, r, level);
+      frame.features_in_area(u, v, r, level, -1, candidates);
     else if (backward)
-      candidates = frame.features_in_area(u, v, r, 0, level);
+      frame.features_in_area(u, v, r, 0, level, candidates);
     else
-      candidates = frame.features_in_area(u, v, r, level - 1, level + 1);
+      frame.features_in_area(u, v, r, level - 1, level + 1, candidates);
     if (candidates.empty()) continue;
     const float u_right = static_cast<float>(u - f.camera.bf / p_c.z());
     const Descriptor d = mp->descriptor();
@@ -149,6 +154,7 @@ int OrbMatcher::search_by_projection(Frame& frame, const KeyFrame& kf,
   const Eigen::Vector3d center = frame.camera_center();
   RotationHistogram hist;
   int matches = 0;
+  std::vector<size_t> candidates;
   for (size_t i = 0; i < kf_points.size(); ++i) {
     const auto& mp = kf_points[i];
     if (!mp || mp->is_bad() || already_found.count(mp->id())) continue;
@@ -162,7 +168,7 @@ int OrbMatcher::search_by_projection(Frame& frame, const KeyFrame& kf,
     if (dist3 < mp->min_distance() || dist3 > mp->max_distance()) continue;
     const int level = mp->predict_level(dist3, *f.pyramid);
     const float r = th * f.pyramid->scale_factors[level];
-    const auto candidates = frame.features_in_area(u, v, r, level - 1, level + 1);
+    frame.features_in_area(u, v, r, level - 1, level + 1, candidates);
     const Descriptor d = mp->descriptor();
     int best = std::numeric_limits<int>::max();
     long best_idx = -1;

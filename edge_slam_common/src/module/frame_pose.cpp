@@ -2,10 +2,12 @@
 
 #include "edge_slam/data/map_point.h"
 #include "edge_slam/optimize/pose_optimizer.h"
+#include "edge_slam/util/stage_clock.h"
 
 namespace edge_slam {
 
 int optimize_frame_pose(Frame& frame) {
+  StageScope stage(TrackingStage::kPose);
   const FrameFeatures& f = frame.feat();
   std::vector<PoseObservation> obs;
   std::vector<size_t> keypoint_of;

@@ -3,6 +3,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "edge_slam/util/flat_id_set.h"
+
 namespace edge_slam {
 
 LocalMap build_local_map(const Frame& frame, const Map& map, size_t max_keyframes,
@@ -13,7 +15,7 @@ LocalMap build_local_map(const Frame& frame, const Map& map, size_t max_keyframe
   for (size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& mp = frame.map_points[i];
     if (!mp || mp->is_bad() || frame.outliers[i]) continue;
-    for (const auto& obs : mp->observations()) ++shared[obs.first];
+    mp->for_each_observation([&](uint32_t kf_id, int) { ++shared[kf_id]; });
   }
   std::unordered_set<uint32_t> included;
   int best = 0;
@@ -45,11 +47,19 @@ LocalMap build_local_map(const Frame& frame, const Map& map, size_t max_keyframe
       if (try_add(child)) break;
     if (kf->parent_id() != kNoId) try_add(kf->parent_id());
   }
-  // 3. Their map points, each once.
-  std::unordered_set<uint32_t> seen;
+  // 3. Their map points, each once, in keyframe then keypoint order. The ids are deduplicated
+  // first and only the survivors resolved, in one pass under the map's lock: in a local map of
+  // 25 keyframes (~25,000 ids) only ~16,000 are distinct. A point that is absent or bad is so
+  // under every id reference to it, so dropping it after deduplication keeps the same list.
+  std::vector<uint32_t> ids;
+  FlatIdSet seen;
+  seen.reserve(local.keyframes.size() * 1000);
   for (const auto& kf : local.keyframes)
-    for (auto& mp : kf->map_points(map))
-      if (mp && seen.insert(mp->id()).second) local.points.push_back(std::move(mp));
+    for (uint32_t id : kf->map_point_ids())
+      if (seen.insert(id)) ids.push_back(id);
+  local.points.reserve(ids.size());
+  for (auto& mp : map.map_points(ids))
+    if (mp && !mp->is_bad()) local.points.push_back(std::move(mp));
   return local;
 }
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <optional>
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
@@ -12,6 +13,7 @@
 #include "edge_slam/module/frame_pose.h"
 #include "edge_slam/module/keyframe_decision.h"
 #include "edge_slam/module/update_carry_over.h"
+#include "edge_slam/util/flat_id_set.h"
 
 namespace edge_slam {
 namespace {
@@ -119,6 +121,7 @@ void Tracking::relink_after_map_update(const Map* old_map) {
 TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = thread_cpu_ms();
+  StageClock stage_clock(TrackingStage::kExtract);
   Frame frame;
   try {
     frame = Frame::from_rgbd(next_frame_id_++, stamp, color, depth, camera_, extractor_, encoding_);
@@ -133,14 +136,19 @@ TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, 
   TrackingResult r = track_frame(std::move(frame));
   r.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   r.cpu_ms = thread_cpu_ms() - c0;
+  r.stages = stage_clock.read();
   times_ms_.back() = r.time_ms;
   cpu_times_ms_.back() = r.cpu_ms;
+  stage_times_.back() = r.stages;
   return r;
 }
 
 TrackingResult Tracking::track_frame(Frame frame) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = thread_cpu_ms();
+  std::optional<StageClock> own_clock;  // track_rgbd installed one already
+  if (!StageClock::active()) own_clock.emplace(TrackingStage::kMatch);
+  StageScope match_stage(TrackingStage::kMatch);  // whatever no other stage claims
   std::lock_guard<std::mutex> map_lock(map_->update_mutex());
   ++counters_.frames;
   next_frame_id_ = std::max(next_frame_id_, frame.id + 1);
@@ -243,8 +251,10 @@ TrackingResult Tracking::track_frame(Frame frame) {
   last_frame_ = std::move(frame);
   result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   result.cpu_ms = thread_cpu_ms() - c0;
+  result.stages = StageClock::active()->read();
   times_ms_.push_back(result.time_ms);
   cpu_times_ms_.push_back(result.cpu_ms);
+  stage_times_.push_back(result.stages);
   return result;
 }
 
@@ -346,7 +356,8 @@ bool Tracking::track_reference_keyframe(Frame& frame, TrackingDiagnostics& diag)
 }
 
 int Tracking::search_local_points(Frame& frame, const LocalMap& local) {
-  std::unordered_set<uint32_t> in_frame;
+  FlatIdSet in_frame;  // looked up once per local point (~10^4): no node chasing
+  in_frame.reserve(frame.map_points.size());
   for (auto& mp : frame.map_points) {
     if (!mp) continue;
     if (mp->is_bad()) {
@@ -358,8 +369,12 @@ int Tracking::search_local_points(Frame& frame, const LocalMap& local) {
   }
   std::vector<ProjectedPoint> projected;
   projected.reserve(local.points.size());
-  for (const auto& mp : local.points) {
-    if (mp->is_bad() || in_frame.count(mp->id())) continue;
+  constexpr size_t kPrefetchAhead = 8;  // points: enough to cover a cache miss
+  for (size_t k = 0; k < std::min(kPrefetchAhead, local.points.size()); ++k) local.points[k]->prefetch_geometry();
+  for (size_t k = 0; k < local.points.size(); ++k) {
+    if (k + kPrefetchAhead < local.points.size()) local.points[k + kPrefetchAhead]->prefetch_geometry();
+    const auto& mp = local.points[k];
+    if (mp->is_bad() || in_frame.contains(mp->id())) continue;
     ProjectedPoint p;
     if (project_into_frame(frame, mp, kMinViewCos, p)) {
       mp->increase_visible();
@@ -374,15 +389,16 @@ int Tracking::search_local_points(Frame& frame, const LocalMap& local) {
 }
 
 bool Tracking::track_local_map(Frame& frame, int& inliers, TrackingDiagnostics& diag) {
+  StageScope stage(TrackingStage::kLocalMap);
   inliers = 0;
-  const LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
+  LocalMap local = build_local_map(frame, *map_, static_cast<size_t>(params_.max_local_keyframes));
   if (local.reference) {
     reference_kf_ = local.reference;
     frame.reference_kf = local.reference;
   }
-  map_->set_reference_map_points(local.points);
   diag.local_map_points = search_local_points(frame, local);
   diag.matches_before_final = frame.num_matched();
+  map_->set_reference_map_points(std::move(local.points));  // moved, not copied: ~10^4 points
   if (optimize_frame_pose(frame) < 0) return false;
   for (size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& mp = frame.map_points[i];
@@ -399,6 +415,7 @@ bool Tracking::track_local_map(Frame& frame, int& inliers, TrackingDiagnostics& 
 }
 
 bool Tracking::decide_keyframe(const Frame& frame, int inliers, TrackingDiagnostics& diag) const {
+  StageScope stage(TrackingStage::kKeyFrame);
   if (!reference_kf_) return true;
   const size_t n_kfs = map_->num_keyframes();
   KeyFrameDecisionInput in;
@@ -428,6 +445,7 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers, TrackingDiagnost
 }
 
 std::shared_ptr<KeyFrame> Tracking::create_keyframe(Frame& frame, bool all_depth_points) {
+  StageScope stage(TrackingStage::kKeyFrame);
   if (vocabulary_ && !vocabulary_->empty()) frame.compute_bow(*vocabulary_);
   auto kf = std::make_shared<KeyFrame>(map_->new_keyframe_id(), frame);
   map_->add_keyframe(kf);

@@ -164,6 +164,9 @@ class BundleAdjuster {
     problem_options_.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_options_.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_options_.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    // The problem is built here from checked links (distinct blocks, fixed sizes): Ceres' own
+    // per-residual checks (a parameter-block map lookup each) would only cost time.
+    problem_options_.disable_all_safety_checks = true;
     // The reduced camera system is small for local windows: dense beats sparse factorisation there.
     solver_options_.linear_solver_type =
         num_free_keyframes_ <= kMaxKeyframesForDenseSchur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;

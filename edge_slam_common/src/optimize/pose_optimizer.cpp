@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "pose_batch_cost.h"
 #include "pose_parameters.h"
 #include "reprojection_cost.h"
 
@@ -32,11 +33,10 @@ PoseOptimizationResult failure(const std::string& why) {
   return r;
 }
 
-bool is_outlier_at(const PinholeCamera& cam, const PoseObservation& o, const PoseParameters& pose) {
+bool is_outlier_at(const PinholeCamera& cam, const PoseObservation& o, const Eigen::Quaterniond& q,
+                   const Eigen::Vector3d& t) {
   const PixelMeasurement m = to_measurement(o);
-  const auto check = optimize_detail::evaluate_reprojection(cam, m, pose.quaternion(),
-                                                            pose.translation(), o.point_world);
-  return optimize_detail::is_reprojection_outlier(check, m);
+  return optimize_detail::is_reprojection_outlier(optimize_detail::evaluate_reprojection(cam, m, q, t, o.point_world), m);
 }
 
 }  // namespace
@@ -64,21 +64,29 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
 
   PoseParameters pose = PoseParameters::from_isometry(T_cw);
 
-  // Built once and lent to each round's problem (tracking calls this twice per frame).
-  std::vector<std::unique_ptr<ceres::CostFunction>> costs(obs.size());
+  // One problem for all rounds: every usable observation in one hand-written residual block
+  // (pose_batch_cost.h: the per-observation Huber cost, at a fraction of Ceres' per-block
+  // overhead); a round switches observations on and off and the kernel on or off.
+  std::vector<size_t> slot_of(obs.size(), 0);  // observation -> index in the batch
+  std::vector<PixelMeasurement> measurements;
+  std::vector<Eigen::Vector3d> points;
   for (size_t i = 0; i < obs.size(); ++i) {
-    if (usable[i]) {
-      costs[i].reset(optimize_detail::make_pose_only_reprojection_cost(cam, to_measurement(obs[i]),
-                                                                       obs[i].point_world));
-    }
+    if (!usable[i]) continue;
+    slot_of[i] = measurements.size();
+    measurements.push_back(to_measurement(obs[i]));
+    points.push_back(obs[i].point_world);
   }
-  ceres::HuberLoss huber_mono(std::sqrt(optimize_detail::kChi2Mono));
-  ceres::HuberLoss huber_stereo(std::sqrt(optimize_detail::kChi2Stereo));
+  optimize_detail::PoseBatchCost batch(cam, measurements, points);
+  optimize_detail::PairedCostLoss batch_loss(batch);
   ceres::EigenQuaternionManifold quaternion_manifold;
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  problem.AddParameterBlock(pose.q, 4, &quaternion_manifold);
+  problem.AddParameterBlock(pose.t, 3);
+  problem.AddResidualBlock(&batch, &batch_loss, pose.q, pose.t);
 
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns
@@ -89,25 +97,18 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
 
   const int rounds = std::max(1, options.rounds);
   for (int round = 0; round < rounds; ++round) {
-    const bool robust = round + 1 < rounds;  // last round: plain least squares
-    ceres::Problem problem(problem_options);
-    problem.AddParameterBlock(pose.q, 4, &quaternion_manifold);
-    problem.AddParameterBlock(pose.t, 3);
+    batch.set_robust(round + 1 < rounds);  // last round: plain least squares
     int num_residuals = 0;
     for (size_t i = 0; i < obs.size(); ++i) {
-      if (outlier[i]) continue;
-      const PixelMeasurement m = to_measurement(obs[i]);
+      if (!usable[i]) continue;
       // A point behind the camera cannot be evaluated by the residual: it sits out this round.
-      if (optimize_detail::evaluate_reprojection(cam, m, pose.quaternion(), pose.translation(),
-                                                 obs[i].point_world)
-              .depth <= optimize_detail::kMinDepth) {
+      // (After round 0 the classification below already flagged those: checked once.)
+      if (round == 0 && !outlier[i] && optimize_detail::evaluate_reprojection(cam, measurements[slot_of[i]], pose.quaternion(),
+                                                                pose.translation(), obs[i].point_world)
+                                 .depth <= optimize_detail::kMinDepth)
         outlier[i] = true;
-        continue;
-      }
-      ceres::LossFunction* loss = nullptr;
-      if (robust) loss = m.is_stereo() ? &huber_stereo : &huber_mono;
-      problem.AddResidualBlock(costs[i].get(), loss, pose.q, pose.t);
-      ++num_residuals;
+      batch.set_active(slot_of[i], !outlier[i]);
+      num_residuals += outlier[i] ? 0 : 1;
     }
     if (num_residuals < options.min_observations) {
       if (round == 0) return failure("too few observations in front of the camera");
@@ -120,8 +121,10 @@ PoseOptimizationResult optimize_pose(const PinholeCamera& cam,
       return failure("ceres failed: " + summary.message);
     }
 
+    const Eigen::Quaterniond q = pose.quaternion();  // normalised once, not per observation
+    const Eigen::Vector3d t = pose.translation();
     for (size_t i = 0; i < obs.size(); ++i) {
-      outlier[i] = !usable[i] || is_outlier_at(cam, obs[i], pose);
+      outlier[i] = !usable[i] || is_outlier_at(cam, obs[i], q, t);
     }
   }
 

@@ -65,7 +65,13 @@ class Frame {
 
   std::vector<size_t> features_in_area(float x, float y, float r, int min_level = -1,
                                        int max_level = -1) const {
-    return features->grid.in_area(features->keys_un, x, y, r, min_level, max_level);
+    std::vector<size_t> out;
+    features->grid.in_area(x, y, r, min_level, max_level, out);
+    return out;
+  }
+  // The same into a buffer the caller reuses across queries (no allocation per query).
+  void features_in_area(float x, float y, float r, int min_level, int max_level, std::vector<size_t>& out) const {
+    features->grid.in_area(x, y, r, min_level, max_level, out);
   }
   // World point of keypoint i from its depth and the current pose (depth must be valid).
   Eigen::Vector3d unproject_world(size_t i) const { return T_cw_.inverse() * features->unproject_camera(i); }

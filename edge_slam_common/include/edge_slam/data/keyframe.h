@@ -103,7 +103,13 @@ class KeyFrame {
 
   std::vector<size_t> features_in_area(float x, float y, float r, int min_level = -1,
                                        int max_level = -1) const {
-    return features_->grid.in_area(features_->keys_un, x, y, r, min_level, max_level);
+    std::vector<size_t> out;
+    features_->grid.in_area(x, y, r, min_level, max_level, out);
+    return out;
+  }
+  // The same into a buffer the caller reuses across queries (no allocation per query).
+  void features_in_area(float x, float y, float r, int min_level, int max_level, std::vector<size_t>& out) const {
+    features_->grid.in_area(x, y, r, min_level, max_level, out);
   }
   Eigen::Vector3d unproject_world(size_t i) const { return T_wc() * features_->unproject_camera(i); }
 

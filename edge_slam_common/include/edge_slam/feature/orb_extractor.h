@@ -16,6 +16,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "edge_slam/feature/intensity_centroid.h"
 #include "edge_slam/feature/orb_params.h"
 #include "edge_slam/feature/pyramid_scales.h"
 
@@ -49,7 +50,7 @@ class OrbExtractor {
   OrbParams params_;
   PyramidScales scales_;
   std::vector<int> features_per_level_;
-  std::vector<int> disc_half_widths_;  // orientation disc, radius kOrbPatchRadius
+  CentroidDisc disc_;  // orientation disc, radius kOrbPatchRadius
 };
 
 }  // namespace edge_slam

@@ -26,6 +26,7 @@
 #include "edge_slam/module/local_map.h"
 #include "edge_slam/module/relocalizer.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/stage_clock.h"
 
 namespace edge_slam {
 
@@ -64,6 +65,7 @@ struct TrackingResult {
   bool relocalized = false;
   double time_ms = 0;             // wall time: frame construction (ORB) + tracking
   double cpu_ms = 0;              // CPU time of this thread for the same work
+  TrackingStageTimes stages;      // the same split by stage (extract, match, pose, local map, KeyFrame)
   std::string message;            // why tracking failed / the input was rejected
   TrackingDiagnostics diag;
   // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
@@ -119,6 +121,7 @@ class Tracking {
   const TrackingCounters& counters() const { return counters_; }
   const std::vector<double>& frame_times_ms() const { return times_ms_; }      // wall
   const std::vector<double>& frame_cpu_times_ms() const { return cpu_times_ms_; }
+  const std::vector<TrackingStageTimes>& frame_stage_times() const { return stage_times_; }
   const Frame& last_frame() const { return last_frame_; }
   uint32_t reference_keyframe_id() const { return reference_kf_ ? reference_kf_->id() : kNoId; }
   const OrbExtractor& extractor() const { return extractor_; }
@@ -175,6 +178,7 @@ class Tracking {
   TrackingCounters counters_;
   std::vector<double> times_ms_;
   std::vector<double> cpu_times_ms_;
+  std::vector<TrackingStageTimes> stage_times_;
 };
 
 }  // namespace edge_slam

@@ -1,0 +1,151 @@
+#include "pose_batch_cost.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace edge_slam {
+namespace optimize_detail {
+
+PoseBatchCost::PoseBatchCost(const PinholeCamera& cam, const std::vector<PixelMeasurement>& measurements,
+                             const std::vector<Eigen::Vector3d>& points_world, Form form)
+    : fx_(cam.fx), fy_(cam.fy), cx_(cam.cx), cy_(cam.cy), bf_(cam.bf),
+      form_(form),
+      active_(measurements.size(), 1),
+      huber_delta_mono_(std::sqrt(kChi2Mono)),
+      huber_delta_stereo_(std::sqrt(kChi2Stereo)) {
+  int rows = 0;
+  obs_.reserve(measurements.size());
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const PixelMeasurement& m = measurements[i];
+    obs_.push_back(Observation{points_world[i], Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x),
+                               std::sqrt(m.inv_sigma2), m.is_stereo(), rows});
+    rows += m.is_stereo() ? 3 : 2;
+  }
+  set_num_residuals(form_ == Form::kRows ? rows : kSquareRootRows);
+  mutable_parameter_block_sizes()->assign({4, 3});
+}
+
+bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  const double vx = parameters[0][0], vy = parameters[0][1], vz = parameters[0][2], w = parameters[0][3];
+  const double tx = parameters[1][0], ty = parameters[1][1], tz = parameters[1][2];
+  const bool want_jacobian = jacobians != nullptr && (jacobians[0] != nullptr || jacobians[1] != nullptr);
+  const bool rows_out = form_ == Form::kRows;
+  // Square-root form: the normal matrix A = J^T J and gradient g = J^T r over all rows, with
+  // J's columns (q x, y, z, w, t x, y, z).
+  Eigen::Matrix<double, 7, 7> A = Eigen::Matrix<double, 7, 7>::Zero();
+  Eigen::Matrix<double, 7, 1> g = Eigen::Matrix<double, 7, 1>::Zero();
+  double sum = 0.0;
+  for (size_t i = 0; i < obs_.size(); ++i) {
+    const Observation& o = obs_[i];
+    const int n = o.stereo ? 3 : 2;
+    double r[3] = {0.0, 0.0, 0.0};
+    double J[3][7] = {};
+    if (active_[i]) {
+      // Eigen's q * X for a unit quaternion q = (v, w): X + 2w (v x X) + 2 v x (v x X).
+      const double X = o.point.x(), Y = o.point.y(), Z = o.point.z();
+      const double cx = vy * Z - vz * Y, cy = vz * X - vx * Z, cz = vx * Y - vy * X;  // v x X
+      const double ccx = vy * cz - vz * cy, ccy = vz * cx - vx * cz, ccz = vx * cy - vy * cx;  // v x (v x X)
+      const double xc = X + 2.0 * w * cx + 2.0 * ccx + tx;
+      const double yc = Y + 2.0 * w * cy + 2.0 * ccy + ty;
+      const double zc = Z + 2.0 * w * cz + 2.0 * ccz + tz;
+      if (!(zc > kMinDepth)) return false;
+      const double inv_z = 1.0 / zc;
+      const double u = fx_ * xc * inv_z + cx_;
+      const double vv = fy_ * yc * inv_z + cy_;
+      r[0] = o.sqrt_info * (o.measured.x() - u);
+      r[1] = o.sqrt_info * (o.measured.y() - vv);
+      if (o.stereo) r[2] = o.sqrt_info * (o.measured.z() - (u - bf_ * inv_z));
+      const double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+      // The per-observation loss and Ceres' first-order correction (Huber: rho'' <= 0).
+      double scale = 1.0;
+      if (robust_) {
+        // ceres::HuberLoss::Evaluate, inline (it is a library call per observation otherwise).
+        const double delta = o.stereo ? huber_delta_stereo_ : huber_delta_mono_;
+        if (s > delta * delta) {
+          const double root = std::sqrt(s);
+          sum += 2.0 * delta * root - delta * delta;
+          scale = std::sqrt(std::max(std::numeric_limits<double>::min(), delta / root));
+        } else {
+          sum += s;
+        }
+      } else {
+        sum += s;
+      }
+      for (int k = 0; k < n; ++k) r[k] *= scale;
+      if (want_jacobian) {
+        // Row k of d r / d Xc (= d r / d t): -sqrt_info * d projection_k / d Xc, times the loss scale.
+        const double kk = -o.sqrt_info * scale;
+        const double a = kk * fx_ * inv_z, b = kk * fy_ * inv_z, c = -kk * fx_ * xc * inv_z * inv_z;
+        const double d = -kk * fy_ * yc * inv_z * inv_z, e = kk * bf_ * inv_z * inv_z;
+        const double rows[3][3] = {{a, 0.0, c}, {0.0, b, d}, {a, 0.0, c + e}};
+        const double vX = vx * X + vy * Y + vz * Z;
+        for (int k = 0; k < n; ++k) {
+          const double* gr = rows[k];
+          // gr^T d Xc / d(v, w), with d Xc / dv = -2w [X]x + 2 (v.X I + v X^T - 2 X v^T) and
+          // d Xc / dw = 2 v x X, i.e. -2w (gr x X) + 2 (v.X) gr + 2 (gr.v) X - 4 (gr.X) v and 2 gr.(v x X).
+          const double gv = gr[0] * vx + gr[1] * vy + gr[2] * vz, gX = gr[0] * X + gr[1] * Y + gr[2] * Z;
+          const double gxX0 = gr[1] * Z - gr[2] * Y, gxX1 = gr[2] * X - gr[0] * Z, gxX2 = gr[0] * Y - gr[1] * X;
+          J[k][0] = -2.0 * w * gxX0 + 2.0 * vX * gr[0] + 2.0 * gv * X - 4.0 * gX * vx;
+          J[k][1] = -2.0 * w * gxX1 + 2.0 * vX * gr[1] + 2.0 * gv * Y - 4.0 * gX * vy;
+          J[k][2] = -2.0 * w * gxX2 + 2.0 * vX * gr[2] + 2.0 * gv * Z - 4.0 * gX * vz;
+          J[k][3] = 2.0 * (gr[0] * cx + gr[1] * cy + gr[2] * cz);
+          J[k][4] = gr[0];
+          J[k][5] = gr[1];
+          J[k][6] = gr[2];
+        }
+      }
+    }
+    if (rows_out) {  // inactive observations: zero rows
+      for (int k = 0; k < n; ++k) {
+        residuals[o.first_row + k] = r[k];
+        if (jacobians && jacobians[0])
+          for (int c = 0; c < 4; ++c) jacobians[0][4 * (o.first_row + k) + c] = J[k][c];
+        if (jacobians && jacobians[1])
+          for (int c = 0; c < 3; ++c) jacobians[1][3 * (o.first_row + k) + c] = J[k][4 + c];
+      }
+    } else if (want_jacobian && active_[i]) {
+      for (int k = 0; k < n; ++k) {  // A += J_k^T J_k, g += J_k^T r_k
+        const Eigen::Map<const Eigen::Matrix<double, 7, 1>> row(J[k]);
+        A.noalias() += row * row.transpose();
+        g += row * r[k];
+      }
+    }
+  }
+  robust_sum_ = sum;
+  if (!rows_out) write_square_root(A, g, residuals, want_jacobian ? jacobians : nullptr);
+  return true;
+}
+
+void PoseBatchCost::write_square_root(const Eigen::Matrix<double, 7, 7>& A, const Eigen::Matrix<double, 7, 1>& g,
+                                      double* residuals, double** jacobians) const {
+  if (jacobians == nullptr) {  // a cost-only evaluation: Ceres reads the cost, not these rows
+    std::fill(residuals, residuals + kSquareRootRows, 0.0);
+    return;
+  }
+  // A = P^T L D L^T P (pivoted LDL^T: A is only semi-definite). R = D^1/2 L^T P gives
+  // R^T R = A, and r' = D^-1/2 L^-1 P g gives R^T r' = g (g = J^T r lies in A's range).
+  const Eigen::LDLT<Eigen::Matrix<double, 7, 7>> ldlt(A);
+  const Eigen::PermutationMatrix<7> P(ldlt.transpositionsP());
+  Eigen::Matrix<double, 7, 7> R = Eigen::Matrix<double, 7, 7>(ldlt.matrixU()) * P;  // L^T P
+  Eigen::Matrix<double, 7, 1> y = P * g;                                               // P g
+  ldlt.matrixL().solveInPlace(y);                                                      // L^-1 P g
+  const Eigen::Matrix<double, 7, 1> D = ldlt.vectorD();
+  for (int i = 0; i < kSquareRootRows; ++i) {
+    // A pivot that rounding left at or below zero belongs to a direction the rows do not
+    // constrain: an empty row (its share of g is rounding noise too).
+    const double d = D[i] > 1e-300 ? std::sqrt(D[i]) : 0.0;
+    R.row(i) *= d;
+    residuals[i] = d > 0.0 ? y[i] / d : 0.0;
+  }
+  if (jacobians[0])
+    for (int i = 0; i < kSquareRootRows; ++i)
+      for (int c = 0; c < 4; ++c) jacobians[0][4 * i + c] = R(i, c);
+  if (jacobians[1])
+    for (int i = 0; i < kSquareRootRows; ++i)
+      for (int c = 0; c < 3; ++c) jacobians[1][3 * i + c] = R(i, 4 + c);
+}
+
+}  // namespace optimize_detail
+}  // namespace edge_slam
