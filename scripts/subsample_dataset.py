@@ -68,7 +68,7 @@ def make_copy(src, dst, every, force):
     for name in os.listdir(src):
         if name not in ('rgb.txt', 'depth.txt'):
             os.symlink(os.path.realpath(os.path.join(src, name)), os.path.join(tmp, name))
-    note = '# subsampled by scripts/subsample_dataset.py: every %d-th colour frame of %s\n' % (every, os.path.realpath(src))
+    note = '# subsampled by scripts/subsample_dataset.py: 1 colour frame in %d of %s\n' % (every, os.path.realpath(src))
     write_list(os.path.join(tmp, 'rgb.txt'), '# color images\n' + note + '# timestamp filename\n', colour)
     write_list(os.path.join(tmp, 'depth.txt'), '# depth maps\n' + note + '# timestamp filename\n', depths)
     if os.path.lexists(dst):
@@ -92,7 +92,7 @@ def main():
     if a.json:
         print(json.dumps({'dst': a.dst, 'every': a.every, 'colour': n_colour, 'depth': n_depth}))
     else:
-        print('%s: every %d-th colour frame of %s: %d colour, %d depth frames' % (a.dst, a.every, a.src, n_colour, n_depth))
+        print('%s: 1 colour frame in %d of %s: %d colour, %d depth frames' % (a.dst, a.every, a.src, n_colour, n_depth))
 
 
 if __name__ == '__main__':
