@@ -9,7 +9,8 @@
 //
 // record: MobileSession on every frame as fast as it goes, without map updates from an edge
 // (the mobile between two updates, on its own Local-Map), every record of its outbox kept in
-// creation order. The file is in the Global-Map file format (io/map_file.h: versioned,
+// creation order; each KeyFrame counts as mapped by the edge before the next frame, so the
+// mobile's KeyFrame pacing (condition 2) sees an idle Local-Mapping, as with a fast edge. The file is in the Global-Map file format (io/map_file.h: versioned,
 // checksummed), the records as its KeyFrames, in order. Never commit a stream recorded on a
 // real dataset: it is derived from it.
 // replay: a fresh EdgeSession takes the records in order, each marked as created well in the
@@ -108,6 +109,10 @@ int record(std::map<std::string, std::string>& args) {
     const TrackingResult r = mobile.track(dataset.load_rgb(i), dataset.load_depth(i), dataset.frames()[i].rgb_stamp);
     tracked += r.pose_valid ? 1 : 0;
     while (auto rec = mobile.outbox().try_pop()) stream.content.keyframes.push_back(std::move(*rec));
+    // No edge here: take each KeyFrame as mapped before the next frame (Local-Mapping idle for
+    // condition 2), or the mobile's edge pacing would see a busy edge forever and make one
+    // KeyFrame a second instead of the stream a live split sends.
+    if (!stream.content.keyframes.empty()) mobile.on_edge_progress(stream.content.keyframes.back().seq);
   }
   if (stream.content.keyframes.empty()) throw std::runtime_error("no KeyFrame was made");
   stream.next_keyframe_id = stream.content.keyframes.back().id + 1;
