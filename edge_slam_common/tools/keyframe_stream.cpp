@@ -9,8 +9,8 @@
 //
 // record: MobileSession on every frame as fast as it goes, without map updates from an edge
 // (the mobile between two updates, on its own Local-Map), every record of its outbox kept in
-// creation order; each KeyFrame counts as mapped by the edge before the next frame, so the
-// mobile's KeyFrame pacing (condition 2) sees an idle Local-Mapping, as with a fast edge. The file is in the Global-Map file format (io/map_file.h: versioned,
+// creation order; each KeyFrame counts as mapped by the edge 5 frames after it was sent, so
+// the mobile's KeyFrame pacing (condition 2) sees the edge as a live one acknowledges. The file is in the Global-Map file format (io/map_file.h: versioned,
 // checksummed), the records as its KeyFrames, in order. Never commit a stream recorded on a
 // real dataset: it is derived from it.
 // replay: a fresh EdgeSession takes the records in order, each marked as created well in the
@@ -28,6 +28,7 @@
 #include <sys/stat.h>
 
 #include <chrono>
+#include <deque>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -105,14 +106,24 @@ int record(std::map<std::string, std::string>& args) {
                        load_mobile_session_params(s.cfg), RgbEncoding::kBgr);
   MapSnapshot stream;
   size_t tracked = 0;
+  constexpr size_t kMappedAfterFrames = 5;       // as edge_slam_run --pace sync's default
+  std::deque<std::pair<size_t, uint64_t>> sent;  // (frame index, seq) not yet acknowledged
   for (size_t i = 0; i < n; ++i) {
     const TrackingResult r = mobile.track(dataset.load_rgb(i), dataset.load_depth(i), dataset.frames()[i].rgb_stamp);
     tracked += r.pose_valid ? 1 : 0;
-    while (auto rec = mobile.outbox().try_pop()) stream.content.keyframes.push_back(std::move(*rec));
-    // No edge here: take each KeyFrame as mapped before the next frame (Local-Mapping idle for
-    // condition 2), or the mobile's edge pacing would see a busy edge forever and make one
-    // KeyFrame a second instead of the stream a live split sends.
-    if (!stream.content.keyframes.empty()) mobile.on_edge_progress(stream.content.keyframes.back().seq);
+    while (auto rec = mobile.outbox().try_pop()) {
+      sent.emplace_back(i, rec->seq);
+      stream.content.keyframes.push_back(std::move(*rec));
+    }
+    // No edge here: a KeyFrame counts as mapped kMappedAfterFrames frames after it was sent, as
+    // a live edge's Local-Mapping (~170 ms a KeyFrame on fr1) acknowledges it. Without this the
+    // mobile's edge pacing (condition 2) sees a busy edge forever (one KeyFrame a second), and
+    // with an always idle edge it makes one nearly every frame: neither is the stream a live
+    // split sends.
+    while (!sent.empty() && i >= sent.front().first + kMappedAfterFrames) {
+      mobile.on_edge_progress(sent.front().second);
+      sent.pop_front();
+    }
   }
   if (stream.content.keyframes.empty()) throw std::runtime_error("no KeyFrame was made");
   stream.next_keyframe_id = stream.content.keyframes.back().id + 1;
