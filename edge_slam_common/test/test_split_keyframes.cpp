@@ -8,6 +8,9 @@
 //     correction, and the last frame moving with it (the next prediction stays right).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
+
 #include "edge_slam/module/edge_keyframe_decision.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/module/mobile_session.h"
@@ -244,6 +247,46 @@ TEST(MobileUpdates, KeyFramesTheUpdateDoesNotHoldAreKeptAndMovedWithIt) {
     EXPECT_TRUE(next.diag.has_prediction);
     EXPECT_LT(next.diag.prediction_error_m, 0.02) << "a prediction in the old map would be 5 cm off";
   }
+}
+
+// Points the edge culled or fused away are not in the update; the live copies the update's
+// KeyFrames observed leave with those KeyFrames instead of staying as points nobody observes
+// (they piled up to 60,000 on a 50-KeyFrame Local-Map in the 10-minute run).
+TEST(MobileUpdates, PointsTheEdgeDroppedLeaveTheLocalMap) {
+  const RenderedSequence& seq = sequence();
+  MobileSessionParams params = paper_pacing();
+  params.update_install = MobileSessionParams::UpdateInstall::kMerge;
+  params.update_retry_window = 0;
+  MobileSession session = make_session(params);
+  const int first = 30;
+  for (int i = 0; i < first; ++i) ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid);
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  ASSERT_GE(sent.size(), 4u);
+  std::vector<KeyFrameRecord> recent(sent.end() - 4, sent.end());
+  MapUpdateRecord u = shifted_update_without_the_newest(recent, Eigen::Vector3d::Zero());
+  std::set<uint32_t> update_kfs;
+  for (const KeyFrameRecord& k : u.keyframes) update_kfs.insert(k.id);
+  // The points only the update's KeyFrames observe here: the edge "culled" every second one.
+  std::set<uint32_t> dropped;
+  bool every_second = false;
+  for (const auto& mp : session.local_map()->map_points()) {
+    bool only_update = mp->num_observations() > 0;
+    for (const auto& [kf_id, idx] : mp->observations()) only_update = only_update && update_kfs.count(kf_id);
+    if (only_update && (every_second = !every_second)) dropped.insert(mp->id());
+  }
+  ASSERT_GT(dropped.size(), 10u);
+  for (KeyFrameRecord& k : u.keyframes)
+    k.observations.erase(std::remove_if(k.observations.begin(), k.observations.end(),
+                                        [&](const auto& o) { return dropped.count(o.second) > 0; }),
+                         k.observations.end());
+  u.points.erase(std::remove_if(u.points.begin(), u.points.end(), [&](const MapPointRecord& p) { return dropped.count(p.id) > 0; }),
+                 u.points.end());
+  const UpdateOutcome out = session.apply_update(u, (first - 1) / 15.0 + 1.0);
+  ASSERT_EQ(out.decision, UpdateDecision::kAccept) << to_string(out.decision);
+  const auto map = session.local_map();
+  for (uint32_t id : dropped) EXPECT_FALSE(map->map_point(id)) << "point " << id << " the edge dropped";
+  for (const auto& mp : map->map_points()) EXPECT_GT(mp->num_observations(), 0) << "point " << mp->id();
 }
 
 }  // namespace

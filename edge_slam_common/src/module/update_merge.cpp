@@ -44,14 +44,27 @@ MergeResult merge_update(Map& live, Map& staged, KeyFrameDatabase* database) {
       fallback = correction[kf->id()];
     }
 
-  // 2. The live copies of the update's KeyFrames leave: their observations go with them.
+  // 2. The live copies of the update's KeyFrames leave: their observations go with them. A point
+  //    nobody observes then, and that the update does not bring back, is one the edge culled or
+  //    fused into another: it leaves too (kept, such points would pile up without bound).
+  std::unordered_set<uint32_t> update_point_ids;
+  update_point_ids.reserve(update_points.size());
+  for (const auto& mp : update_points) update_point_ids.insert(mp->id());
   for (const auto& kf : update_kfs) {
     const auto old = live.keyframe(kf->id());
     if (!old) continue;
     const std::vector<uint32_t> ids = old->map_point_ids();
-    for (uint32_t id : ids)
-      if (id != kNoId)
-        if (const auto mp = live.map_point(id)) mp->erase_observation(kf->id());
+    for (uint32_t id : ids) {
+      if (id == kNoId) continue;
+      const auto mp = live.map_point(id);
+      if (!mp) continue;
+      mp->erase_observation(kf->id());
+      if (mp->num_observations() == 0 && !update_point_ids.count(id)) {
+        mp->set_bad();  // a frame still holding it (the last one) lets go of it
+        live.erase_map_point(id);
+        ++out.points_dropped;
+      }
+    }
     if (database) database->erase(old);
     live.erase_keyframe(kf->id());
     ++out.keyframes_replaced;
@@ -82,9 +95,6 @@ MergeResult merge_update(Map& live, Map& staged, KeyFrameDatabase* database) {
   //    Tracking is paused: one batch lookup per KeyFrame and one lock per point keep it short.
   static std::atomic<uint64_t> passes{0};
   const uint64_t pass = ++passes;
-  std::unordered_set<uint32_t> update_point_ids;
-  update_point_ids.reserve(update_points.size());
-  for (const auto& mp : update_points) update_point_ids.insert(mp->id());
   for (const auto& kf : live.keyframes()) {
     if (in_update.count(kf->id())) continue;
     const Eigen::Isometry3d C = correction_for(*kf, correction, fallback);

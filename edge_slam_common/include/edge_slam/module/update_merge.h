@@ -19,6 +19,7 @@ struct MergeResult {
   size_t keyframes_added = 0;     // update KeyFrames the Local-Map did not have
   size_t keyframes_kept = 0;      // live KeyFrames the update did not hold, corrected and kept
   size_t points_replaced = 0, points_added = 0, points_moved = 0;
+  size_t points_dropped = 0;  // live points only the replaced KeyFrames observed and the update does not hold
 };
 
 // `staged`: the update's KeyFrames and points, built and linked off-line (stage_update); its
