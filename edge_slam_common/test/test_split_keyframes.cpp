@@ -194,6 +194,23 @@ TEST(EdgeSessionUpdates, ACovisibleUpdateHoldsTheNewestKeyFrameAndItsStrongestNe
 
 // An update shifted by `shift` (the edge moved the whole map), built from all but the newest
 // KeyFrame: that one was made after the edge started building it.
+MobileSessionParams install_params(MobileSessionParams::UpdateInstall install) {
+  MobileSessionParams params = paper_pacing();
+  params.update_install = install;
+  params.update_retry_window = 0;  // an update is installed or refused at once
+  return params;
+}
+
+// Tracks the first `frames` frames of the sequence (each must be tracked); the records sent.
+std::vector<KeyFrameRecord> track_and_collect(MobileSession& session, int frames) {
+  const RenderedSequence& seq = sequence();
+  for (int i = 0; i < frames; ++i)
+    EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  return sent;
+}
+
 MapUpdateRecord shifted_update_without_the_newest(const std::vector<KeyFrameRecord>& sent, const Eigen::Vector3d& shift) {
   std::vector<KeyFrameRecord> known(sent.begin(), sent.end() - 1);
   MapUpdateRecord u = update_from(known, sequence().camera);
@@ -210,14 +227,10 @@ TEST(MobileUpdates, KeyFramesTheUpdateDoesNotHoldAreKeptAndMovedWithIt) {
   using Install = MobileSessionParams::UpdateInstall;
   for (const Install install : {Install::kMerge, Install::kKeepNewer, Install::kReplace}) {
     SCOPED_TRACE(install == Install::kMerge ? "merge" : install == Install::kKeepNewer ? "keep_newer" : "replace");
-    MobileSessionParams params = paper_pacing();
-    params.update_install = install;
-    params.update_retry_window = 0;
-    MobileSession session = make_session(params);
+    MobileSession session = make_session(install_params(install));
     const int first = 30;
-    for (int i = 0; i < first; ++i) ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid);
-    std::vector<KeyFrameRecord> sent;
-    while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+    const std::vector<KeyFrameRecord> sent = track_and_collect(session, first);
+    ASSERT_FALSE(HasFailure());
     ASSERT_GE(sent.size(), 4u);
     // The update holds only the last three it knew of: the first ones and the newest are not in it.
     std::vector<KeyFrameRecord> recent(sent.end() - 4, sent.end());
@@ -235,12 +248,14 @@ TEST(MobileUpdates, KeyFramesTheUpdateDoesNotHoldAreKeptAndMovedWithIt) {
     for (const auto& kf : map->keyframes()) {
       ASSERT_TRUE(before.count(kf->id()));
       EXPECT_LT((kf->T_wc().translation() - (before[kf->id()] + shift)).norm(), 1e-6) << "KeyFrame " << kf->id();
-      for (uint32_t id : kf->map_point_ids())
+      for (uint32_t id : kf->map_point_ids()) {
         if (id != kNoId) EXPECT_TRUE(map->map_point(id)) << "KeyFrame " << kf->id() << " point " << id;
+      }
     }
-    for (const auto& mp : map->map_points())  // every point moved with the map, exactly once
+    for (const auto& mp : map->map_points()) {  // every point moved with the map, exactly once
       if (point_before.count(mp->id()))
         EXPECT_LT((mp->position() - (point_before[mp->id()] + shift)).norm(), 1e-5) << "point " << mp->id();
+    }
     // The next frame is predicted in the shifted map: the last frame moved with its reference.
     const TrackingResult next = session.track(seq.colors[first], seq.depths[first], first / 15.0);
     ASSERT_TRUE(next.pose_valid) << next.message;
@@ -253,15 +268,10 @@ TEST(MobileUpdates, KeyFramesTheUpdateDoesNotHoldAreKeptAndMovedWithIt) {
 // KeyFrames observed leave with those KeyFrames instead of staying as points nobody observes
 // (they piled up to 60,000 on a 50-KeyFrame Local-Map in the 10-minute run).
 TEST(MobileUpdates, PointsTheEdgeDroppedLeaveTheLocalMap) {
-  const RenderedSequence& seq = sequence();
-  MobileSessionParams params = paper_pacing();
-  params.update_install = MobileSessionParams::UpdateInstall::kMerge;
-  params.update_retry_window = 0;
-  MobileSession session = make_session(params);
+  MobileSession session = make_session(install_params(MobileSessionParams::UpdateInstall::kMerge));
   const int first = 30;
-  for (int i = 0; i < first; ++i) ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid);
-  std::vector<KeyFrameRecord> sent;
-  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  const std::vector<KeyFrameRecord> sent = track_and_collect(session, first);
+  ASSERT_FALSE(HasFailure());
   ASSERT_GE(sent.size(), 4u);
   std::vector<KeyFrameRecord> recent(sent.end() - 4, sent.end());
   MapUpdateRecord u = shifted_update_without_the_newest(recent, Eigen::Vector3d::Zero());
