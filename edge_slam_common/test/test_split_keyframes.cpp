@@ -249,12 +249,15 @@ TEST(MobileUpdates, KeyFramesTheUpdateDoesNotHoldAreKeptAndMovedWithIt) {
       ASSERT_TRUE(before.count(kf->id()));
       EXPECT_LT((kf->T_wc().translation() - (before[kf->id()] + shift)).norm(), 1e-6) << "KeyFrame " << kf->id();
       for (uint32_t id : kf->map_point_ids()) {
-        if (id != kNoId) EXPECT_TRUE(map->map_point(id)) << "KeyFrame " << kf->id() << " point " << id;
+        if (id != kNoId) {
+          EXPECT_TRUE(map->map_point(id)) << "KeyFrame " << kf->id() << " point " << id;
+        }
       }
     }
     for (const auto& mp : map->map_points()) {  // every point moved with the map, exactly once
-      if (point_before.count(mp->id()))
+      if (point_before.count(mp->id())) {
         EXPECT_LT((mp->position() - (point_before[mp->id()] + shift)).norm(), 1e-5) << "point " << mp->id();
+      }
     }
     // The next frame is predicted in the shifted map: the last frame moved with its reference.
     const TrackingResult next = session.track(seq.colors[first], seq.depths[first], first / 15.0);
