@@ -144,10 +144,14 @@ TEST(EdgeSessionKeyFrames, PointsOfARefusedKeyFrameJoinWithTheNextOneThatSeesThe
   for (const NewPointRecord& p : refused.new_points) later.observations.emplace_back(p.kp_index, p.id);
   std::string error;
   ASSERT_EQ(edge.receive_keyframe(later, now, &error), KeyFrameVerdict::kInserted) << error;
+  // Every pending point joined with the later KeyFrame (counted as it was inserted). Local-Mapping
+  // runs at once on that KeyFrame and may fuse some into the first KeyFrame's points before the
+  // map is read here (1 run in ~10 saw 406 of 456), so presence is checked for most, not all;
+  // without the adoption none would be there.
+  EXPECT_EQ(edge.counters().pending_points_adopted, refused.new_points.size());
   size_t adopted = 0;
   for (const NewPointRecord& p : refused.new_points) adopted += edge.global_map()->map_point(p.id) ? 1 : 0;
-  EXPECT_EQ(adopted, refused.new_points.size());
-  EXPECT_EQ(edge.counters().pending_points_adopted, refused.new_points.size());
+  EXPECT_GE(adopted, refused.new_points.size() / 2);
   ASSERT_TRUE(edge.wait_until_idle(30.0));
 }
 
