@@ -8,6 +8,10 @@
 //        ~keyframe_path (nav_msgs/Path), ~loops (one line per loop closed), ~stats (1 Hz)
 //   srv: ~status (edge_slam_msgs/GetEdgeStatus: counters and KeyFrame id accounting),
 //        ~save_map, ~load_map (edge_slam_msgs/MapFile; an empty path means ~checkpoint_file)
+// Several mobiles (~mobiles: [robot1, robot2], robot i sending with ~robot_index i): each
+// robot's topics above live under /<robot>/edge_slam/, the maps of robots that see the same
+// place are merged (~merges: edge_slam_msgs/MapMerge) and TF world -> <robot>/map is published
+// (static) once a robot's map joins robot 0's; ~global_map and ~keyframes are in `world`.
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
 // ~stats_csv, ~metrics_file, ~keyframes_file (the Global-Map's KeyFrame poses and culled
 // KeyFrames; empty = not written), ~checkpoint_file (empty = no persistence), ~restore_on_start
@@ -17,6 +21,7 @@
 // malformed_keyframes / malformed_frames, ~stats keyframes_malformed / frames_malformed, per
 // kind in metrics.json) and logged once per kind of problem, then throttled; nothing crashes.
 #include <edge_slam/split/edge_system.h>
+#include <edge_slam/util/robot_ids.h>
 #include <edge_slam_bridge/ack_conversion.h>
 #include <edge_slam_bridge/checked_subscriber.h>
 #include <edge_slam_bridge/map_display.h>
@@ -25,6 +30,8 @@
 #include <edge_slam_bridge/rosconsole_log.h>
 #include <edge_slam_bridge/stats_message.h>
 #include <edge_slam_msgs/MapFile.h>
+#include <edge_slam_msgs/MapMerge.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -33,6 +40,7 @@
 #include <std_msgs/UInt64.h>
 
 #include <memory>
+#include <vector>
 
 #include "edge_status.h"
 
@@ -50,11 +58,14 @@ class EdgeNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getMTNodeHandle();
     ros::NodeHandle& pnh = getMTPrivateNodeHandle();
     pnh.param<std::string>("map_frame", map_frame_, "map");
+    pnh.param("mobiles", mobiles_, std::vector<std::string>{});
+    if (!mobiles_.empty()) map_frame_ = "world";  // the merged Global-Map
     try {
       const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
       edge_slam::EdgeSystemSettings settings = edge_slam::load_edge_system_settings(cfg.slam);
       settings.camera = cfg.camera;
       settings.vocabulary = cfg.vocabulary;
+      settings.session.robots = mobiles_.empty() ? 1 : static_cast<int>(mobiles_.size());
       pnh.param<std::string>("checkpoint_file", settings.durability.checkpoint_file, "");
       pnh.param("restore_on_start", settings.restore_on_start, true);
       pnh.param<std::string>("stats_csv", settings.files.events, "");
@@ -66,57 +77,102 @@ class EdgeNodelet : public nodelet::Nodelet {
       return;
     }
     const edge_slam::EdgeSystemSettings& settings = system_->settings();
-    update_pub_ = nh.advertise<edge_slam_msgs::MapUpdate>("map_updates", 10);
     display_ = {pnh.advertise<sensor_msgs::PointCloud2>("global_map", 1, true),
                 pnh.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true), map_frame_, "global_map", 1.0f,
                 0.55f, 0.0f};
     path_pub_ = pnh.advertise<nav_msgs::Path>("keyframe_path", 1, true);
     loop_pub_ = pnh.advertise<std_msgs::String>("loops", 10, true);
+    merge_pub_ = pnh.advertise<edge_slam_msgs::MapMerge>("merges", 10, true);
     stats_pub_ = pnh.advertise<edge_slam_msgs::Stats>("stats", 10);
-    ack_pub_ = nh.advertise<edge_slam_msgs::KeyFrameAck>("keyframe_acks", 10);
     status_srv_ = pnh.advertiseService("status", &EdgeNodelet::on_status, this);
     save_srv_ = pnh.advertiseService("save_map", &EdgeNodelet::on_save_map, this);
     load_srv_ = pnh.advertiseService("load_map", &EdgeNodelet::on_load_map, this);
-    floor_sub_ = nh.subscribe("keyframe_floor", 10, &EdgeNodelet::on_floor, this);
-    keyframe_sub_ = edge_slam::subscribe_checked<edge_slam_msgs::KeyFrame, edge_slam::KeyFrameRecord>(
-        nh, "keyframes", 1000, [this](const edge_slam::KeyFrameRecord& r, size_t bytes) { system_->receive_keyframe(r, bytes); },
-        [this](const std::string& why, size_t bytes) { system_->reject(Topic::kKeyFrames, why, bytes); });
-    frame_sub_ = edge_slam::subscribe_checked<edge_slam_msgs::Frame, edge_slam::FrameRecord>(
-        nh, "frames", 5, [this](const edge_slam::FrameRecord& f, size_t bytes) { on_frame(f, bytes); },
-        [this](const std::string& why, size_t bytes) { system_->reject(Topic::kFrames, why, bytes); });
+    for (int r = 0; r < system_->robots(); ++r) wire_robot(r, mobiles_.empty() ? nh : ros::NodeHandle("/" + mobiles_[r] + "/edge_slam"));
     const double update_period = settings.session.update_period;
-    update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) { send_update(); });
+    update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) {
+      for (int r = 0; r < system_->robots(); ++r) send_update(r);
+    });
     display_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_map(); });
     stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
     // Acknowledgements at a steady 5 Hz: cheap, and a mobile that reconnects learns the state at once.
-    ack_timer_ = nh.createWallTimer(ros::WallDuration(0.2), [this](const ros::WallTimerEvent&) { publish_ack(); });
+    ack_timer_ = nh.createWallTimer(ros::WallDuration(0.2), [this](const ros::WallTimerEvent&) {
+      for (int r = 0; r < system_->robots(); ++r) publish_ack(r);
+    });
     // As soon as Local-Mapping is done with a KeyFrame the mobile hears of it: its condition 2
     // waits for that (edge_slam/mobile_keyframe_pacing), like ORB-SLAM2's tracker reading its mapper.
     progress_timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) {
-      if (system_->mapping_progressed()) publish_ack();
+      for (int r = 0; r < system_->robots(); ++r)
+        if (system_->mapping_progressed(r)) publish_ack(r);
     });
     if (!settings.durability.checkpoint_file.empty())
       checkpoint_timer_ = nh.createWallTimer(ros::WallDuration(settings.durability.checkpoint_period),
                                              [this](const ros::WallTimerEvent&) { system_->checkpoint("periodic"); });
-    NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map, updates every %.1f s", update_period);
+    publish_world_frames();
+    NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map for %d mobile(s), updates every %.1f s",
+                 system_->robots(), update_period);
   }
 
-  void on_floor(const std_msgs::UInt64::ConstPtr& msg) { system_->skip_keyframes_through(msg->data); }
-  void publish_ack() { ack_pub_.publish(edge_slam::to_message(system_->ack())); }
-
-  void on_frame(const edge_slam::FrameRecord& frame, size_t bytes) {
-    if (auto update = system_->answer_frame(frame, bytes)) publish(*update);
+  // One mobile's topics: KeyFrames, Frames and the floor in; updates and acknowledgements out.
+  void wire_robot(int r, ros::NodeHandle rnh) {
+    Robot& robot = robots_.emplace_back();
+    robot.update_pub = rnh.advertise<edge_slam_msgs::MapUpdate>("map_updates", 10);
+    robot.ack_pub = rnh.advertise<edge_slam_msgs::KeyFrameAck>("keyframe_acks", 10);
+    robot.floor_sub = rnh.subscribe<std_msgs::UInt64>(
+        "keyframe_floor", 10, [this, r](const std_msgs::UInt64::ConstPtr& m) { system_->skip_keyframes_through(m->data, r); });
+    robot.keyframe_sub = edge_slam::subscribe_checked<edge_slam_msgs::KeyFrame, edge_slam::KeyFrameRecord>(
+        rnh, "keyframes", 1000, [this, r](const edge_slam::KeyFrameRecord& k, size_t bytes) { system_->receive_keyframe(k, bytes, r); },
+        [this](const std::string& why, size_t bytes) { system_->reject(Topic::kKeyFrames, why, bytes); });
+    robot.frame_sub = edge_slam::subscribe_checked<edge_slam_msgs::Frame, edge_slam::FrameRecord>(
+        rnh, "frames", 5, [this, r](const edge_slam::FrameRecord& f, size_t bytes) {
+          if (auto update = system_->answer_frame(f, bytes, r)) publish(*update, r);
+        },
+        [this](const std::string& why, size_t bytes) { system_->reject(Topic::kFrames, why, bytes); });
   }
 
-  void send_update() {
-    if (auto update = system_->periodic_update()) publish(*update);
+  void publish_ack(int r) { robots_[r].ack_pub.publish(edge_slam::to_message(system_->ack(r))); }
+
+  void send_update(int r) {
+    if (auto update = system_->periodic_update(r)) publish(*update, r);
   }
 
-  void publish(edge_slam::MapUpdateRecord& update) {
+  void publish(edge_slam::MapUpdateRecord& update, int r) {
     system_->stamp_for_publishing(update);
     const edge_slam_msgs::MapUpdate msg = edge_slam::to_message(update);
-    update_pub_.publish(msg);
-    system_->published(update, edge_slam::wire_size(msg), ros::Time::now().toSec());
+    robots_[r].update_pub.publish(msg);
+    system_->published(update, edge_slam::wire_size(msg), ros::Time::now().toSec(), r);
+  }
+
+  // Several mobiles: TF world -> <robot>/map for every robot whose map is in the world (static:
+  // a placement changes only at a merge or a robot's reset; re-sent then).
+  void publish_world_frames() {
+    if (mobiles_.empty()) return;
+    std::vector<geometry_msgs::TransformStamped> placed;
+    for (int r = 0; r < system_->robots(); ++r)
+      if (const auto T = system_->T_world_robot(r))
+        placed.push_back(edge_slam::transform_to_message(*T, ros::Time::now(), "world", mobiles_[r] + "/map"));
+    if (placed.size() != world_frames_sent_) tf_static_.sendTransform(placed);
+    world_frames_sent_ = placed.size();
+  }
+
+  void publish_merges() {
+    for (const edge_slam::MergeEvent& e : system_->new_merges(ros::Time::now().toSec())) {
+      edge_slam_msgs::MapMerge m;
+      m.header.stamp = ros::Time::now();
+      m.header.frame_id = "world";
+      const auto name = [this](uint32_t kf) {
+        const int r = edge_slam::robot_of_keyframe(kf);
+        return r >= 0 && r < static_cast<int>(mobiles_.size()) ? mobiles_[r] : std::to_string(r);
+      };
+      m.robot = name(e.current_kf_id);
+      m.into_robot = name(e.loop_kf_id);
+      m.keyframe = e.current_kf_id;
+      m.loop_keyframe = e.loop_kf_id;
+      m.matches = e.matches;
+      m.transform = edge_slam::transform_to_message(e.T_into_from, ros::Time(), "", "").transform;
+      merge_pub_.publish(m);
+      world_frames_sent_ = static_cast<size_t>(-1);  // placements changed: send them again
+    }
+    publish_world_frames();
   }
 
   bool on_status(edge_slam_msgs::GetEdgeStatus::Request&, edge_slam_msgs::GetEdgeStatus::Response& res) {
@@ -160,15 +216,23 @@ class EdgeNodelet : public nodelet::Nodelet {
       s.data = line;
       loop_pub_.publish(s);
     }
+    publish_merges();
     stats_pub_.publish(edge_slam::to_message(system_->stats(), "edge", ros::Time::now()));
     system_->write_outputs();
   }
 
   std::unique_ptr<edge_slam::EdgeSystem> system_;  // set in onInit, before any callback
   std::string map_frame_;
+  std::vector<std::string> mobiles_;  // empty: one un-namespaced mobile
+  struct Robot {
+    ros::Publisher update_pub, ack_pub;
+    ros::Subscriber keyframe_sub, frame_sub, floor_sub;
+  };
+  std::vector<Robot> robots_;  // index = robot index; filled in onInit, before any callback
   edge_slam::MapDisplay display_;
-  ros::Publisher ack_pub_, update_pub_, path_pub_, loop_pub_, stats_pub_;
-  ros::Subscriber keyframe_sub_, frame_sub_, floor_sub_;
+  ros::Publisher path_pub_, loop_pub_, stats_pub_, merge_pub_;
+  tf2_ros::StaticTransformBroadcaster tf_static_;
+  size_t world_frames_sent_ = 0;
   ros::ServiceServer status_srv_, save_srv_, load_srv_;
   ros::Timer update_timer_;
   ros::WallTimer display_timer_, stats_timer_, ack_timer_, progress_timer_, checkpoint_timer_;

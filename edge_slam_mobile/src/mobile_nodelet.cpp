@@ -13,6 +13,7 @@
 // counted, logged once per kind of problem, then throttled, and dropped (malformed map_updates:
 // rejected_invalid; camera frames: images_rejected_*); out-of-range parameters refuse the start.
 #include <edge_slam/split/mobile_system.h>
+#include <edge_slam/util/robot_ids.h>
 #include <edge_slam_bridge/ack_conversion.h>
 #include <edge_slam_bridge/bounded_path.h>
 #include <edge_slam_bridge/checked_subscriber.h>
@@ -75,6 +76,7 @@ class MobileNodelet : public nodelet::Nodelet {
       yaml_camera_ = config.camera;
       edge_slam::MobileSystemSettings settings = edge_slam::load_mobile_system_settings(config.slam);
       settings.vocabulary = config.vocabulary;
+      settings.session.robot_index = edge_slam::param_in_range(pnh, "robot_index", 0, 0, edge_slam::kMaxRobots - 1);
       pnh.param<std::string>("stats_csv", settings.files.events, "");
       pnh.param<std::string>("metrics_file", settings.files.metrics, "");
       pnh.param<std::string>("trajectory_file", settings.files.trajectory, "");

@@ -22,7 +22,7 @@ void raise_to(std::atomic<uint32_t>& counter, uint32_t value) {
 void Map::add_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   std::lock_guard<std::mutex> lock(mutex_);
   keyframes_.put(kf->id(), kf);
-  raise_to(next_kf_id_, kf->id() + 1);
+  raise_keyframe_ids_past(kf->id());
 }
 void Map::add_map_point(const std::shared_ptr<MapPoint>& mp) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -31,6 +31,19 @@ void Map::add_map_point(const std::shared_ptr<MapPoint>& mp) {
 }
 void Map::raise_map_point_ids_past(uint32_t id) {
   if (id >= mp_id_first_ && id < mp_id_end_) raise_to(next_mp_id_, id + 1);
+}
+void Map::raise_keyframe_ids_past(uint32_t id) {
+  if (id >= kf_id_first_ && id < kf_id_end_) raise_to(next_kf_id_, id + 1);
+}
+void Map::set_keyframe_id_space(uint32_t first, uint32_t end) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  kf_id_first_ = first;
+  kf_id_end_ = end;
+  uint32_t highest = first;
+  keyframes_.for_each([&](uint32_t id, const std::shared_ptr<KeyFrame>&) {
+    if (id >= first && id < end) highest = std::max(highest, id + 1);
+  });
+  next_kf_id_ = highest;
 }
 void Map::set_map_point_id_space(uint32_t first, uint32_t end) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -111,7 +124,7 @@ void Map::rebuild(const std::vector<std::shared_ptr<KeyFrame>>& kfs,
     map_points_.reserve(mps.size());
     for (const auto& kf : kfs) {
       keyframes_.put(kf->id(), kf);
-      raise_to(next_kf_id_, kf->id() + 1);
+      raise_keyframe_ids_past(kf->id());
     }
     for (const auto& mp : mps) {
       map_points_.put(mp->id(), mp);
@@ -152,7 +165,7 @@ void Map::adopt(Map& staged) {
   keyframes_.swap(staged.keyframes_);
   map_points_.swap(staged.map_points_);
   reference_map_points_.clear();
-  keyframes_.for_each([&](uint32_t id, const std::shared_ptr<KeyFrame>&) { raise_to(next_kf_id_, id + 1); });
+  keyframes_.for_each([&](uint32_t id, const std::shared_ptr<KeyFrame>&) { raise_keyframe_ids_past(id); });
   map_points_.for_each([&](uint32_t id, const std::shared_ptr<MapPoint>&) { raise_map_point_ids_past(id); });
 }
 

@@ -10,6 +10,7 @@
 #include "edge_slam/io/map_snapshot.h"
 #include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/robot_ids.h"
 
 namespace edge_slam {
 
@@ -44,6 +45,15 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   return p;
 }
 
+namespace {
+int checked_robot_count(int robots) {
+  if (robots < 1 || robots > kMaxRobots)
+    throw std::invalid_argument("edge session: " + std::to_string(robots) + " robots, expected 1.." +
+                                std::to_string(kMaxRobots));
+  return robots;
+}
+}  // namespace
+
 EdgeSession::EdgeSession(const PinholeCamera& camera, int pyramid_levels, float scale_factor,
                          std::shared_ptr<const BowVocabulary> vocabulary, const EdgeSessionParams& params)
     : camera_(camera),
@@ -51,7 +61,9 @@ EdgeSession::EdgeSession(const PinholeCamera& camera, int pyramid_levels, float 
       vocabulary_(std::move(vocabulary)),
       params_(params),
       map_(std::make_shared<Map>()),
-      database_(std::make_shared<KeyFrameDatabase>()) {
+      database_(std::make_shared<KeyFrameDatabase>()),
+      robots_(static_cast<size_t>(checked_robot_count(params.robots))),
+      frames_(params.robots) {
   map_->set_map_point_id_space(kEdgePointIdFirst, kNoId);
   start_modules();
 }
@@ -72,6 +84,10 @@ void EdgeSession::start_modules() {
       culled_links_.push_back(KeyFrameLink{kf->id(), kf->parent_id(), kf->T_cp().inverse()});
     }
   };
+  if (multi() && modules->loop()) {  // one robot: one group, the paper's loop closing as it was
+    modules->loop()->group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
+    modules->loop()->on_merge = [this](int from, int into, const Eigen::Isometry3d& T) { frames_.merge(from, into, T); };
+  }
   modules->start();
   modules_ = std::move(modules);
 }
@@ -88,41 +104,69 @@ std::shared_ptr<MappingThreads> EdgeSession::modules() const {
   return modules_;
 }
 
-KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double now, std::string* error) {
+namespace {
+// A record must carry the ids of the robot that sent it (util/robot_ids.h): its KeyFrame id and
+// the points it creates; the points it only observes may be anyone's (a merged map).
+std::string foreign_ids(const KeyFrameRecord& r, int robot) {
+  if (!keyframe_id_space(robot).contains(r.id))
+    return "KeyFrame id " + std::to_string(r.id) + " is not robot " + std::to_string(robot) + "'s (robot " +
+           std::to_string(robot_of_keyframe(r.id)) + "'s ids)";
+  const IdSpace points = mobile_point_id_space(robot);
+  for (const NewPointRecord& p : r.new_points)
+    if (!points.contains(p.id))
+      return "new map point id " + std::to_string(p.id) + " is not in robot " + std::to_string(robot) +
+             "'s range [" + std::to_string(points.first) + ", " + std::to_string(points.end) + ")";
+  return {};
+}
+}  // namespace
+
+KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double now, std::string* error, int robot) {
   std::lock_guard<std::mutex> lock(mutex_);
-  ++counters_.received;
-  counters_.last_seq = std::max(counters_.last_seq, r.seq);
-  receipts_.mark(r.seq);  // whatever the verdict: a resend would get the same one
+  if (robot < 0 || robot >= static_cast<int>(robots_.size())) {
+    if (error) *error = "robot " + std::to_string(robot) + " is not served (" + std::to_string(robots_.size()) + " robots)";
+    return KeyFrameVerdict::kInvalid;
+  }
+  RobotState& rs = robots_[robot];
+  ++rs.counters.received;
+  rs.counters.last_seq = std::max(rs.counters.last_seq, r.seq);
+  rs.receipts.mark(r.seq);  // whatever the verdict: a resend would get the same one
+  if (const std::string foreign = foreign_ids(r, robot); !foreign.empty()) {
+    ++rs.counters.invalid;
+    ++rs.counters.foreign_ids;
+    if (error) *error = foreign;
+    return KeyFrameVerdict::kInvalid;
+  }
   if (r.reset) {
-    reset_locked();
-    ++counters_.resets;
+    reset_locked(robot);
+    if (multi()) frames_.start_new_map(robot, r.id + 1);  // the mobile's ids go on after a reset
+    ++rs.counters.resets;
     return KeyFrameVerdict::kReset;
   }
-  if (!seen_ids_.insert(r.id).second) {
-    ++counters_.duplicates;
+  if (!rs.seen_ids.insert(r.id).second) {
+    ++rs.counters.duplicates;
     return KeyFrameVerdict::kDuplicate;
   }
   EdgeKeyFrameState state;
-  state.any_inserted = any_inserted_;
-  state.last_inserted_frame_id = last_inserted_frame_id_;
-  state.relocalization_sent = relocalization_sent_;
-  state.last_relocalization_frame_id = last_relocalization_frame_id_;
+  state.any_inserted = rs.any_inserted;
+  state.last_inserted_frame_id = rs.last_inserted_frame_id;
+  state.relocalization_sent = rs.relocalization_sent;
+  state.last_relocalization_frame_id = rs.last_relocalization_frame_id;
   state.mapper_idle = modules_->mapping().idle();
   switch (decide_edge_keyframe(params_.keyframe, params_.late_keyframe_age, state, r, now)) {
     case EdgeKeyFrameDecision::kRejectCondition1:
-      ++counters_.rejected_condition1;
-      keep_pending_points(r);
+      ++rs.counters.rejected_condition1;
+      keep_pending_points(rs, r);
       return KeyFrameVerdict::kRejectedAfterRelocalization;
     case EdgeKeyFrameDecision::kRejectCondition2:
-      ++counters_.rejected_condition2;
-      keep_pending_points(r);
+      ++rs.counters.rejected_condition2;
+      keep_pending_points(rs, r);
       return KeyFrameVerdict::kRejectedMapperBusy;
     case EdgeKeyFrameDecision::kInsertLate:
-      ++counters_.late_keyframes;
+      ++rs.counters.late_keyframes;
       break;
     case EdgeKeyFrameDecision::kInsert:
       if (!state.mapper_idle && weak_tracking(params_.keyframe, edge_decision_input(state, r)))
-        ++counters_.weak_tracking_inserted;
+        ++rs.counters.weak_tracking_inserted;
       break;
   }
 
@@ -132,14 +176,21 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     kf = keyframe_from_record(r, camera_, pyramid_);
     for (const NewPointRecord& p : r.new_points) new_points.push_back(map_point_from_new_point(p, *kf));
   } catch (const std::exception& e) {
-    ++counters_.invalid;
+    ++rs.counters.invalid;
     if (error) *error = e.what();
     return KeyFrameVerdict::kInvalid;
   }
   {
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+    // The robot's frame -> the coordinates its map is stored in, read under the map lock: a
+    // merge moves the map and re-labels the groups under it, so nothing arrives in between.
+    const Eigen::Isometry3d T_group_robot = frames_.placement(robot).T_group_robot;
+    const bool moved = !T_group_robot.isApprox(Eigen::Isometry3d::Identity());
+    const uint64_t pass = (uint64_t{1} << 41) + ++transform_passes_;
+    if (moved) kf->set_pose(kf->T_cw() * T_group_robot.inverse());
     for (const auto& mp : new_points) {
       if (map_->map_point(mp->id())) continue;  // already known: keep the edge's version
+      if (moved) mp->transform_once(T_group_robot, pass);
       map_->add_map_point(mp);
     }
     // Points of refused KeyFrames this one observes join the Global-Map now, with this KeyFrame
@@ -148,12 +199,13 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     const std::vector<uint32_t> ids = kf->map_point_ids();
     for (size_t i = 0; i < ids.size(); ++i) {
       if (ids[i] == kNoId || map_->map_point(ids[i])) continue;
-      const auto pending = pending_points_.find(ids[i]);
-      if (pending != pending_points_.end()) {
+      const auto pending = rs.pending_points.find(ids[i]);
+      if (pending != rs.pending_points.end()) {
         pending->second->set_reference_kf_id(kf->id());
+        if (moved) pending->second->transform_once(T_group_robot, pass);
         map_->add_map_point(pending->second);
-        pending_points_.erase(pending);
-        ++counters_.pending_points_adopted;
+        rs.pending_points.erase(pending);
+        ++rs.counters.pending_points_adopted;
       } else {
         kf->erase_map_point_id(i);
       }
@@ -166,14 +218,14 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     in_mapping_[kf->id()] = r.seq;
   }
   modules_->mapping().insert_keyframe(kf);
-  inserted_ids_.push_back(kf->id());
-  last_inserted_frame_id_ = r.frame_id;
-  any_inserted_ = true;
-  ++counters_.inserted;
+  rs.inserted_ids.push_back(kf->id());
+  rs.last_inserted_frame_id = r.frame_id;
+  rs.any_inserted = true;
+  ++rs.counters.inserted;
   return KeyFrameVerdict::kInserted;
 }
 
-void EdgeSession::keep_pending_points(const KeyFrameRecord& r) {
+void EdgeSession::keep_pending_points(RobotState& rs, const KeyFrameRecord& r) {
   if (r.new_points.empty() || params_.pending_point_capacity == 0) return;
   std::shared_ptr<const FrameFeatures> features;
   try {
@@ -183,28 +235,28 @@ void EdgeSession::keep_pending_points(const KeyFrameRecord& r) {
   }
   const KeyFrame source(r.id, r.frame_id, r.stamp, features, r.T_wc.inverse());
   for (const NewPointRecord& p : r.new_points) {
-    if (pending_points_.count(p.id)) continue;
+    if (rs.pending_points.count(p.id)) continue;
     try {
-      pending_points_.emplace(p.id, map_point_from_new_point(p, source));
+      rs.pending_points.emplace(p.id, map_point_from_new_point(p, source));
     } catch (const std::exception&) {
       continue;
     }
-    pending_order_.push_back(p.id);
+    rs.pending_order.push_back(p.id);
   }
-  while (pending_order_.size() > params_.pending_point_capacity) {  // oldest first
-    pending_points_.erase(pending_order_.front());
-    pending_order_.pop_front();
+  while (rs.pending_order.size() > params_.pending_point_capacity) {  // oldest first
+    rs.pending_points.erase(rs.pending_order.front());
+    rs.pending_order.pop_front();
   }
 }
 
-uint64_t EdgeSession::mapped_seq() const { return counters().mapped_seq; }
+uint64_t EdgeSession::mapped_seq(int robot) const { return counters(robot).mapped_seq; }
 
-void EdgeSession::skip_keyframes_through(uint64_t floor) {
+void EdgeSession::skip_keyframes_through(uint64_t floor, int robot) {
   std::lock_guard<std::mutex> lock(mutex_);
-  receipts_.skip_through(floor);
+  if (robot >= 0 && robot < static_cast<int>(robots_.size())) robots_[robot].receipts.skip_through(floor);
 }
 
-MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs) const {
+MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs, int robot) const {
   MapUpdateRecord u;
   std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> points;
   std::lock_guard<std::mutex> map_lock(map_->update_mutex());  // a consistent snapshot
@@ -216,11 +268,16 @@ MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFr
   }
   u.points.reserve(points.size());
   for (const auto& [id, mp] : points) u.points.push_back(to_record(*mp));
+  // In the robot's own frame: the stored coordinates are its group's (one robot: the same).
+  const Eigen::Isometry3d T_group_robot = frames_.placement(robot).T_group_robot;
+  if (!T_group_robot.isApprox(Eigen::Isometry3d::Identity())) transform_update(u, T_group_robot.inverse());
   return u;
 }
 
-std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now) {
+std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now, int robot) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (robot < 0 || robot >= static_cast<int>(robots_.size())) return std::nullopt;
+  RobotState& rs = robots_[robot];
   const size_t n = static_cast<size_t>(params_.update_size);
   std::vector<std::shared_ptr<KeyFrame>> newest;
   std::unordered_set<uint32_t> chosen;
@@ -229,26 +286,28 @@ std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now) {
   };
   if (params_.update_content == EdgeSessionParams::UpdateContent::kCovisible) {
     // The newest KeyFrame and its strongest covisibles; the newest others fill up what is left.
-    for (auto it = inserted_ids_.rbegin(); it != inserted_ids_.rend() && newest.empty(); ++it) take(map_->keyframe(*it));
+    for (auto it = rs.inserted_ids.rbegin(); it != rs.inserted_ids.rend() && newest.empty(); ++it) take(map_->keyframe(*it));
     if (!newest.empty())
       for (uint32_t id : newest.front()->best_covisibles(n)) take(map_->keyframe(id));
   }
-  for (auto it = inserted_ids_.rbegin(); it != inserted_ids_.rend() && newest.size() < n; ++it)
+  for (auto it = rs.inserted_ids.rbegin(); it != rs.inserted_ids.rend() && newest.size() < n; ++it)
     take(map_->keyframe(*it));
   if (newest.empty()) return std::nullopt;
   std::sort(newest.begin(), newest.end(), [](const auto& a, const auto& b) { return a->id() < b->id(); });
-  MapUpdateRecord u = pack_update(newest);
+  MapUpdateRecord u = pack_update(newest, robot);
   u.kind = MapUpdateKind::kPeriodic;
-  u.seq = next_update_seq_++;
+  u.seq = rs.next_update_seq++;
   u.build_start = now;
-  u.last_keyframe_seq = counters_.last_seq;
-  ++counters_.updates_built;
+  u.last_keyframe_seq = rs.counters.last_seq;
+  ++rs.counters.updates_built;
   return u;
 }
 
 std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const FrameRecord& fr, double now,
-                                                                        std::string* error) {
+                                                                        std::string* error, int robot) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (robot < 0 || robot >= static_cast<int>(robots_.size())) return std::nullopt;
+  RobotState& rs = robots_[robot];
   if (!vocabulary_ || vocabulary_->empty()) return std::nullopt;
   Frame frame;
   try {
@@ -258,7 +317,13 @@ std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const Fr
     return std::nullopt;
   }
   frame.compute_bow(*vocabulary_);
-  const auto candidates = database_->detect_relocalization_candidates(frame, *map_);
+  auto candidates = database_->detect_relocalization_candidates(frame, *map_);
+  if (multi()) {  // only the robot's own map (merged or not): another's coordinates mean nothing to it
+    const int group = frames_.placement(robot).group;
+    candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                    [&](const auto& c) { return frames_.group_of(c->id()) != group; }),
+                     candidates.end());
+  }
   if (candidates.empty()) return std::nullopt;
   std::vector<std::shared_ptr<KeyFrame>> kfs;
   std::unordered_set<uint32_t> included;
@@ -269,47 +334,60 @@ std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const Fr
   for (const auto& c : candidates)
     for (uint32_t id : c->best_covisibles(params_.neighbours_per_candidate)) include(map_->keyframe(id));
   if (kfs.size() > params_.max_update_keyframes) kfs.resize(params_.max_update_keyframes);
-  MapUpdateRecord u = pack_update(kfs);
+  MapUpdateRecord u = pack_update(kfs, robot);
   u.kind = MapUpdateKind::kRelocalization;
-  u.seq = next_update_seq_++;
+  u.seq = rs.next_update_seq++;
   u.request_frame_id = fr.id;
   u.build_start = now;
-  u.last_keyframe_seq = counters_.last_seq;
-  last_relocalization_frame_id_ = fr.id;
-  relocalization_sent_ = true;
-  ++counters_.relocalization_updates_built;
+  u.last_keyframe_seq = rs.counters.last_seq;
+  rs.last_relocalization_frame_id = fr.id;
+  rs.relocalization_sent = true;
+  ++rs.counters.relocalization_updates_built;
   return u;
 }
 
-void EdgeSession::reset_locked() {
+void EdgeSession::clear_robot(RobotState& rs) {
+  rs.seen_ids.clear();
+  rs.inserted_ids.clear();
+  rs.pending_points.clear();
+  rs.pending_order.clear();
+  rs.any_inserted = false;
+  rs.relocalization_sent = false;
+}
+
+// One robot: the Global-Map is the robot's map, cleared with it (paper). Several: only the
+// robot's state; its KeyFrames stay in the Global-Map for the others, and its next ones start a
+// map of their own (RobotFrames::start_new_map), merged again when it sees a known place.
+void EdgeSession::reset_locked(int robot) {
+  if (multi()) {
+    clear_robot(robots_[robot]);
+    return;
+  }
   stop_modules();
   map_->clear();
   database_->clear();
-  seen_ids_.clear();
-  inserted_ids_.clear();
-  pending_points_.clear();
-  pending_order_.clear();
+  clear_robot(robots_[robot]);
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_.clear();
     culled_links_.clear();
   }
-  any_inserted_ = false;
-  relocalization_sent_ = false;
   start_modules();
 }
 
 uint64_t EdgeSession::save_map(const std::string& path) const {
+  if (multi()) throw std::runtime_error("saving the Global-Map of several robots is not supported yet");
   MapSnapshot snapshot;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    const RobotState& rs = robots_[0];
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
     snapshot = snapshot_map(*map_);
     // The contiguous seq, not the highest: a restored edge must not claim the gaps.
-    snapshot.last_keyframe_seq = receipts_.contiguous();
-    snapshot.received_keyframe_ids.assign(seen_ids_.begin(), seen_ids_.end());
+    snapshot.last_keyframe_seq = rs.receipts.contiguous();
+    snapshot.received_keyframe_ids.assign(rs.seen_ids.begin(), rs.seen_ids.end());
     std::sort(snapshot.received_keyframe_ids.begin(), snapshot.received_keyframe_ids.end());
-    snapshot.inserted_keyframe_ids = inserted_ids_;
+    snapshot.inserted_keyframe_ids = rs.inserted_ids;
   }
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
@@ -320,6 +398,7 @@ uint64_t EdgeSession::save_map(const std::string& path) const {
 }
 
 void EdgeSession::load_map(const std::string& path) {
+  if (multi()) throw std::runtime_error("loading a Global-Map with several robots is not supported yet");
   // Read, check and build everything before touching the session, so a bad file changes nothing.
   const MapSnapshot snapshot = read_map_file(path);
   MapObjects objects;
@@ -329,6 +408,7 @@ void EdgeSession::load_map(const std::string& path) {
     throw std::runtime_error("map file '" + path + "': " + e.what());
   }
   std::lock_guard<std::mutex> lock(mutex_);
+  RobotState& rs = robots_[0];
   stop_modules();
   {
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
@@ -340,25 +420,25 @@ void EdgeSession::load_map(const std::string& path) {
   }
   // The restored KeyFrames and every id received before the save count as received: a
   // resent copy is a duplicate. The accounting continues from the saved one.
-  seen_ids_ = std::unordered_set<uint32_t>(snapshot.received_keyframe_ids.begin(),
-                                           snapshot.received_keyframe_ids.end());
-  last_inserted_frame_id_ = 0;
+  rs.seen_ids = std::unordered_set<uint32_t>(snapshot.received_keyframe_ids.begin(),
+                                             snapshot.received_keyframe_ids.end());
+  rs.last_inserted_frame_id = 0;
   for (const auto& kf : map_->keyframes()) {
-    seen_ids_.insert(kf->id());
-    last_inserted_frame_id_ = std::max<uint64_t>(last_inserted_frame_id_, kf->frame_id());
+    rs.seen_ids.insert(kf->id());
+    rs.last_inserted_frame_id = std::max<uint64_t>(rs.last_inserted_frame_id, kf->frame_id());
   }
-  inserted_ids_ = snapshot.inserted_keyframe_ids;  // insertion order: the newest go in updates
-  pending_points_.clear();
-  pending_order_.clear();
+  rs.inserted_ids = snapshot.inserted_keyframe_ids;  // insertion order: the newest go in updates
+  rs.pending_points.clear();
+  rs.pending_order.clear();
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;
     culled_links_.clear();  // not in the map file: their frames go through the mobile's chain
   }
-  any_inserted_ = !map_->keyframes().empty();
-  relocalization_sent_ = false;
-  counters_.last_seq = std::max(counters_.last_seq, snapshot.last_keyframe_seq);
-  receipts_.restore(snapshot.last_keyframe_seq);
+  rs.any_inserted = !map_->keyframes().empty();
+  rs.relocalization_sent = false;
+  rs.counters.last_seq = std::max(rs.counters.last_seq, snapshot.last_keyframe_seq);
+  rs.receipts.restore(snapshot.last_keyframe_seq);
   start_modules();
 }
 
@@ -366,14 +446,16 @@ bool EdgeSession::wait_until_idle(double timeout_s) const {
   return modules()->wait_until_idle(timeout_s, 2);
 }
 
-EdgeCounters EdgeSession::counters() const {
+EdgeCounters EdgeSession::counters(int robot) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  EdgeCounters c = counters_;
-  c.received_seq = receipts_.contiguous();
+  if (robot < 0 || robot >= static_cast<int>(robots_.size())) return {};
+  EdgeCounters c = robots_[robot].counters;
+  c.received_seq = robots_[robot].receipts.contiguous();
   {
     std::lock_guard<std::mutex> map_lock(mapping_seq_mutex_);
     uint64_t oldest = UINT64_MAX;
-    for (const auto& [id, seq] : in_mapping_) oldest = std::min(oldest, seq);
+    for (const auto& [id, seq] : in_mapping_)
+      if (robot_of_keyframe(id) == robot) oldest = std::min(oldest, seq);
     c.mapped_seq = oldest == UINT64_MAX ? c.received_seq : std::min(c.received_seq, oldest - 1);
   }
   return c;
@@ -383,24 +465,32 @@ std::vector<LoopEvent> EdgeSession::loops() const {
   const auto m = modules();
   return m->loop() ? m->loop()->loops() : std::vector<LoopEvent>{};
 }
+std::vector<MergeEvent> EdgeSession::merges() const {
+  const auto m = modules();
+  return m->loop() ? m->loop()->merges() : std::vector<MergeEvent>{};
+}
 
 ModuleFigures EdgeSession::module_figures() const {
   const auto m = modules();
   return collect_module_figures(&m->mapping(), m->loop());
 }
 
-KeyFrameAccount EdgeSession::keyframe_account() const {
+KeyFrameAccount EdgeSession::keyframe_account(int robot) const {
   KeyFrameAccount a;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    a.inserted = inserted_ids_;
-    a.received.assign(seen_ids_.begin(), seen_ids_.end());
+    if (robot < 0 || robot >= static_cast<int>(robots_.size())) return a;
+    a.inserted = robots_[robot].inserted_ids;
+    a.received.assign(robots_[robot].seen_ids.begin(), robots_[robot].seen_ids.end());
   }
   // The map before the culled list: a KeyFrame culled in between shows up in both, never in neither.
-  for (const auto& kf : map_->keyframes()) a.in_map.push_back(kf->id());
+  const auto own = [&](uint32_t id) { return robot_of_keyframe(id) == robot; };
+  for (const auto& kf : map_->keyframes())
+    if (own(kf->id())) a.in_map.push_back(kf->id());
   {
     std::lock_guard<std::mutex> lock(culled_mutex_);
-    a.culled = culled_ids_;
+    for (uint32_t id : culled_ids_)
+      if (own(id)) a.culled.push_back(id);
   }
   std::sort(a.inserted.begin(), a.inserted.end());
   std::sort(a.culled.begin(), a.culled.end());

@@ -1,6 +1,7 @@
 #include "edge_slam/module/loop_closing.h"
 
 #include <chrono>
+#include <map>
 #include <cstdlib>
 #include <sstream>
 
@@ -112,34 +113,69 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       return false;
     }
   }
+  // Two groups (robots whose maps are not joined yet): a merge, i.e. the current group first
+  // moved rigidly by the verified transform, after which the loop correction is near identity.
+  const int from = group_of ? group_of(kf->id()) : 0, into = group_of ? group_of(match.loop_kf->id()) : 0;
+  const bool merge = from != into && from >= 0 && into >= 0;
+  Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
   LoopCorrectionReport report;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
+    if (merge) {
+      T_into_from = move_group(kf, match, from, into);
+      if (on_merge) on_merge(from, into, T_into_from);
+    }
     report = correct_loop(*map_, kf, match, params_.correction);
   }
   if (local_mapping_) local_mapping_->release();
-  if (report.group_keyframes == 0) {
+  if (report.group_keyframes == 0 && !merge) {
     log_info(log_text("[loop] KF ", kf->id(), " <-> KF ", match.loop_kf->id(), " not corrected: ", report.message));
     return false;
   }
   detector_.set_last_loop_keyframe(kf->id());
-  log_info(log_text("[loop] loop closed: KF ", kf->id(), " <-> KF ", match.loop_kf->id(), ", ", match.num_matches,
-      " matches (", report.group_keyframes, " KFs corrected, ", report.fused_points, " points fused, ",
-      report.new_loop_links, " new links, ", report.message, ", cost ", report.graph_initial_cost, " -> ",
-      report.graph_final_cost, ")"));
+  log_info(log_text("[loop] ", (merge ? "maps merged" : "loop closed"), ": KF ", kf->id(), " <-> KF ",
+      match.loop_kf->id(), ", ", match.num_matches, " matches (", report.group_keyframes, " KFs corrected, ",
+      report.fused_points, " points fused, ", report.new_loop_links, " new links, ", report.message, ", cost ",
+      report.graph_initial_cost, " -> ", report.graph_final_cost, ")"));
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    loops_.push_back(LoopEvent{kf->id(), match.loop_kf->id(), match.num_matches, report});
+    if (merge)
+      merges_.push_back(MergeEvent{kf->id(), match.loop_kf->id(), from, into, match.num_matches, T_into_from, report});
+    else
+      loops_.push_back(LoopEvent{kf->id(), match.loop_kf->id(), match.num_matches, report});
     correct_ms_.push_back(ms_since(t1));
   }
-  if (params_.full_ba) {
-    full_ba_running_ = true;
-    if (params_.full_ba_in_background)
-      full_ba_thread_ = std::thread([this, id = kf->id()] { run_full_ba(id); });
-    else
-      run_full_ba(kf->id());
-  }
+  start_full_ba(kf->id());
   return true;
+}
+
+void LoopClosing::start_full_ba(uint32_t kf_id) {
+  if (!params_.full_ba) return;
+  full_ba_running_ = true;
+  if (params_.full_ba_in_background)
+    full_ba_thread_ = std::thread([this, kf_id] { run_full_ba(kf_id); });
+  else
+    run_full_ba(kf_id);
+}
+
+Eigen::Isometry3d LoopClosing::move_group(const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match, int from,
+                                          int into) {
+  // T_cw_corrected is the current camera seen from the loop side: T_into_from maps the current
+  // group's coordinates onto the loop group's, exactly for the current KeyFrame.
+  const Eigen::Isometry3d T_into_from = match.T_cw_corrected.inverse() * kf->T_cw();
+  const uint64_t pass = ++merge_passes_ + (uint64_t{1} << 40);  // distinct from any update's pass
+  int moved_kfs = 0, moved_points = 0;
+  for (const auto& k : map_->keyframes()) {
+    if (group_of(k->id()) != from) continue;
+    k->set_pose(k->T_cw() * T_into_from.inverse());
+    ++moved_kfs;
+    for (uint32_t id : k->map_point_ids())
+      if (id != kNoId)
+        if (auto mp = map_->map_point(id); mp && mp->transform_once(T_into_from, pass)) ++moved_points;
+  }
+  log_info(log_text("[loop] merging map ", from, " into map ", into, ": ", moved_kfs, " KFs and ", moved_points,
+      " points moved"));
+  return T_into_from;
 }
 
 void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
@@ -148,6 +184,17 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
     problem = build_full_ba_problem(*map_);
+  }
+  // Maps not joined yet (several robots) each keep their gauge: the first KeyFrame of each group is held.
+  if (group_of) {
+    std::map<int, size_t> first_of_group;
+    for (size_t i = 0; i < problem.keyframes.size(); ++i) {
+      const int g = group_of(problem.keyframes[i].id);
+      auto it = first_of_group.find(g);
+      if (it == first_of_group.end() || problem.keyframes[i].id < problem.keyframes[it->second].id) first_of_group[g] = i;
+    }
+    if (first_of_group.size() > 1)
+      for (const auto& [g, i] : first_of_group) problem.keyframes[i].fixed = true;
   }
   const BundleAdjustmentResult result =
       problem.keyframes.size() < 2 ? BundleAdjustmentResult{}
@@ -184,6 +231,10 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
 int LoopClosing::loops_closed() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   return static_cast<int>(loops_.size());
+}
+std::vector<MergeEvent> LoopClosing::merges() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return merges_;
 }
 std::vector<LoopEvent> LoopClosing::loops() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "edge_slam/data/bow_vocabulary.h"
+#include "edge_slam/util/robot_ids.h"
 
 namespace edge_slam {
 
@@ -11,7 +12,9 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
   last_raw_candidates_ = 0;
   if (!kf->has_bow() || kf->is_bad()) return {};
   if (map.num_keyframes() < params_.min_map_keyframes) return {};
-  if (has_loop_ && kf->id() < last_loop_kf_id_ + params_.min_keyframes_after_loop) return {};
+  const auto last_loop = last_loop_kf_ids_.find(robot_of_keyframe(kf->id()));
+  if (last_loop != last_loop_kf_ids_.end() && kf->id() < last_loop->second + params_.min_keyframes_after_loop)
+    return {};
 
   // The loop must look at least as similar as the keyframe's own neighbours do.
   double min_score = 1.0;
@@ -22,10 +25,14 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
   }
   last_min_score_ = min_score;
   // Only keyframes older than this one: tracking indexes keyframes before local mapping has
-  // linked them, so a newer one may look unconnected without being a loop.
+  // linked them, so a newer one may look unconnected without being a loop. Another robot's
+  // KeyFrames are never this one's neighbours-to-be: all of them are candidates (a merge).
+  const int robot = robot_of_keyframe(kf->id());
   auto candidates = database.detect_loop_candidates(kf, min_score, map);
   candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                  [&](const std::shared_ptr<KeyFrame>& c) { return c->id() >= kf->id(); }),
+                                  [&](const std::shared_ptr<KeyFrame>& c) {
+                                    return robot_of_keyframe(c->id()) == robot && c->id() >= kf->id();
+                                  }),
                    candidates.end());
   last_raw_candidates_ = candidates.size();
   if (candidates.empty()) {
@@ -61,5 +68,7 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
   groups_ = std::move(current);
   return consistent;
 }
+
+void LoopDetector::set_last_loop_keyframe(uint32_t kf_id) { last_loop_kf_ids_[robot_of_keyframe(kf_id)] = kf_id; }
 
 }  // namespace edge_slam

@@ -1,14 +1,22 @@
 #include "edge_slam/module/map_point_culling.h"
 
 #include "edge_slam/data/map_edit.h"
+#include "edge_slam/util/robot_ids.h"
 
 namespace edge_slam {
 
 int RecentMapPoints::cull(Map& map, uint32_t current_kf_id) {
   int erased = 0;
+  const int robot = robot_of_keyframe(current_kf_id);
+  if (robot < 0) return 0;
+  if (newest_by_robot_.size() <= static_cast<size_t>(robot)) newest_by_robot_.resize(robot + 1, 0);
+  newest_by_robot_[robot] = std::max(newest_by_robot_[robot], current_kf_id);
   for (auto it = points_.begin(); it != points_.end();) {
     const auto mp = map.map_point(it->first);
-    const uint32_t age = current_kf_id >= it->second ? current_kf_id - it->second : 0;
+    const int maker = robot_of_keyframe(it->second);
+    const uint32_t newest = maker >= 0 && static_cast<size_t>(maker) < newest_by_robot_.size()
+                                ? newest_by_robot_[maker] : it->second;
+    const uint32_t age = newest >= it->second ? newest - it->second : 0;
     bool drop_from_list = true;
     if (!mp || mp->is_bad()) {
       // already gone

@@ -7,6 +7,7 @@
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/config_file.h"
+#include "edge_slam/util/robot_ids.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/update_carry_over.h"
@@ -65,7 +66,12 @@ MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, 
       outbox_(params.outbox_capacity),
       tracking_(camera, orb, mobile_tracking_params(tracking, params), map_, database_, vocabulary, encoding),
       policy_(params.policy) {
-  map_->set_map_point_id_space(kMobilePointIdFirst, kEdgePointIdFirst);
+  if (!valid_robot_index(params.robot_index))
+    throw std::invalid_argument("robot index " + std::to_string(params.robot_index) + " out of range 0.." +
+                                std::to_string(kMaxRobots - 1));
+  const IdSpace keyframes = keyframe_id_space(params.robot_index), points = mobile_point_id_space(params.robot_index);
+  map_->set_keyframe_id_space(keyframes.first, keyframes.end);
+  map_->set_map_point_id_space(points.first, points.end);
   // Runs inside track(), with mutex_ held.
   tracking_.on_new_keyframe = [this](const std::shared_ptr<KeyFrame>& kf) { on_new_keyframe(kf); };
 }

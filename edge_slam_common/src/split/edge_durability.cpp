@@ -94,18 +94,21 @@ void EdgeDurability::load(const std::string& path) {
   boot_id_ = boot_ids_();
 }
 
-KeyFrameAck EdgeDurability::ack() {
-  const EdgeCounters c = session_.counters();
+KeyFrameAck EdgeDurability::ack(int robot) {
+  if (!valid_robot_index(robot)) return {};
+  const EdgeCounters c = session_.counters(robot);
   KeyFrameAck a;
   a.boot_id = boot_id_;
   a.received_seq = c.received_seq;
   a.persistent = persistent();
   a.durable_seq = durable_seq_;
   a.mapped_seq = c.mapped_seq;
-  last_acked_mapped_seq_ = a.mapped_seq;
+  last_acked_mapped_seq_[robot] = a.mapped_seq;
   return a;
 }
 
-bool EdgeDurability::mapping_progressed() const { return session_.mapped_seq() != last_acked_mapped_seq_; }
+bool EdgeDurability::mapping_progressed(int robot) const {
+  return valid_robot_index(robot) && session_.mapped_seq(robot) != last_acked_mapped_seq_[robot];
+}
 
 }  // namespace edge_slam

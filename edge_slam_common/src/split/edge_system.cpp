@@ -4,6 +4,9 @@
 #include "edge_slam/io/metrics_json.h"
 #include "edge_slam/module/tracking_params.h"
 #include "edge_slam/util/log.h"
+#include "edge_slam/util/robot_ids.h"
+
+#include <sstream>
 
 namespace edge_slam {
 
@@ -15,14 +18,29 @@ EdgeSystemSettings load_edge_system_settings(const ConfigMap& slam) {
   return s;
 }
 
+namespace {
+// Checkpoints hold one robot's deliveries (io/map_file.h): with several, persistence is off.
+DurabilityParams checked_durability(const EdgeSystemSettings& s) {
+  DurabilityParams d = s.durability;
+  if (s.session.robots > 1 && !d.checkpoint_file.empty()) {
+    log_warn("checkpoint_file '" + d.checkpoint_file + "' ignored: persistence of " +
+             std::to_string(s.session.robots) + " robots' maps is not supported yet (one robot only)");
+    d.checkpoint_file.clear();
+  }
+  return d;
+}
+}  // namespace
+
 EdgeSystem::EdgeSystem(EdgeSystemSettings settings, WallClock clock, EdgeDurability::BootIds boot_ids)
     : settings_(std::move(settings)),
       clock_(std::move(clock)),
       recorder_(settings_.files, clock_),
       session_(std::make_unique<EdgeSession>(settings_.camera, settings_.orb.num_levels, settings_.orb.scale_factor,
                                              settings_.vocabulary, settings_.session)),
-      durability_(*session_, settings_.durability, std::move(boot_ids)) {
-  if (settings_.restore_on_start) durability_.restore(clock_());
+      durability_(*session_, checked_durability(settings_), std::move(boot_ids)),
+      update_latency_by_robot_(static_cast<size_t>(session_->robots())),
+      keyframe_latency_by_robot_(static_cast<size_t>(session_->robots())) {
+  if (settings_.restore_on_start && durability_.persistent()) durability_.restore(clock_());
 }
 
 EdgeSystem::~EdgeSystem() {
@@ -50,16 +68,17 @@ void EdgeSystem::reject(Topic topic, const std::string& why, size_t bytes) {
   recorder_.event(std::move(e));
 }
 
-KeyFrameVerdict EdgeSystem::receive_keyframe(const KeyFrameRecord& record, size_t bytes) {
+KeyFrameVerdict EdgeSystem::receive_keyframe(const KeyFrameRecord& record, size_t bytes, int robot) {
   // Created on the mobile (its wall clock) -> received and deserialised here.
   const double latency_ms = (clock_() - record.created_wall) * 1e3;
   {
     std::lock_guard<std::mutex> lock(figures_mutex_);
     keyframe_latency_ms_.push_back(latency_ms);
+    if (robot >= 0 && robot < robots()) keyframe_latency_by_robot_[robot].push_back(latency_ms);
     keyframe_bytes_ += bytes;
   }
   std::string error;
-  const KeyFrameVerdict v = session_->receive_keyframe(record, clock_(), &error);
+  const KeyFrameVerdict v = session_->receive_keyframe(record, clock_(), &error, robot);
   EventRow e = row("keyframe", record.stamp);
   e.seq = record.seq;
   e.bytes = bytes;
@@ -67,18 +86,22 @@ KeyFrameVerdict EdgeSystem::receive_keyframe(const KeyFrameRecord& record, size_
   e.decision = to_string(v);
   recorder_.event(std::move(e));
   if (v == KeyFrameVerdict::kInvalid && invalid_keyframe_log_.allow(clock_()))
-    log_error("KeyFrame " + std::to_string(record.id) + " refused: " + error);
+    log_error("KeyFrame " + std::to_string(record.id) + (robots() > 1 ? " of robot " + std::to_string(robot) : "") +
+              " refused: " + error);
   else if (v == KeyFrameVerdict::kReset)
-    log_warn("reset requested by the mobile (KeyFrame " + std::to_string(record.id) + "): Global-Map cleared");
+    log_warn(robots() > 1 ? "reset requested by robot " + std::to_string(robot) + " (KeyFrame " +
+                                std::to_string(record.id) + "): its next KeyFrames start a new map"
+                          : "reset requested by the mobile (KeyFrame " + std::to_string(record.id) +
+                                "): Global-Map cleared");
   else
     log_debug("KeyFrame " + std::to_string(record.id) + ": " + to_string(v));
   return v;
 }
 
-std::optional<MapUpdateRecord> EdgeSystem::answer_frame(const FrameRecord& frame, size_t bytes) {
+std::optional<MapUpdateRecord> EdgeSystem::answer_frame(const FrameRecord& frame, size_t bytes, int robot) {
   const double latency_ms = (clock_() - frame.created_wall) * 1e3;
   std::string error;
-  auto update = session_->build_relocalization_update(frame, clock_(), &error);
+  auto update = session_->build_relocalization_update(frame, clock_(), &error, robot);
   if (!error.empty() && refused_frame_log_.allow(clock_()))
     log_error("Frame " + std::to_string(frame.id) + " refused: " + error);
   EventRow e = row("frame", frame.stamp);
@@ -90,15 +113,18 @@ std::optional<MapUpdateRecord> EdgeSystem::answer_frame(const FrameRecord& frame
   return update;
 }
 
-std::optional<MapUpdateRecord> EdgeSystem::periodic_update() { return session_->build_local_map_update(clock_()); }
+std::optional<MapUpdateRecord> EdgeSystem::periodic_update(int robot) {
+  return session_->build_local_map_update(clock_(), robot);
+}
 
 void EdgeSystem::stamp_for_publishing(MapUpdateRecord& update) const { update.publish_stamp = clock_(); }
 
-void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double data_now) {
+void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double data_now, int robot) {
   const double build_ms = (clock_() - update.build_start) * 1e3;
   {
     std::lock_guard<std::mutex> lock(figures_mutex_);
     update_build_ms_.push_back(build_ms);
+    if (robot >= 0 && robot < robots()) update_latency_by_robot_[robot].push_back(build_ms);
     update_bytes_ += bytes;
     ++updates_sent_;
   }
@@ -109,6 +135,7 @@ void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double d
   e.kind = update.kind == MapUpdateKind::kRelocalization ? "relocalization" : "periodic";
   e.keyframes = static_cast<long>(update.keyframes.size());
   e.points = static_cast<long>(update.points.size());
+  if (robots() > 1) e.detail = "robot " + std::to_string(robot);
   recorder_.event(std::move(e));
 }
 
@@ -126,6 +153,25 @@ std::vector<std::string> EdgeSystem::new_loops(double data_now) {
   }
   loops_announced_ = loops.size();
   return lines;
+}
+
+std::vector<MergeEvent> EdgeSystem::new_merges(double data_now) {
+  const std::vector<MergeEvent> merges = session_->merges();
+  std::vector<MergeEvent> fresh(merges.begin() + static_cast<long>(std::min(merges_announced_, merges.size())),
+                                merges.end());
+  for (const MergeEvent& m : fresh) {
+    const std::string line = "maps merged: KeyFrame " + std::to_string(m.current_kf_id) + " (robot " +
+                             std::to_string(robot_of_keyframe(m.current_kf_id)) + ") <-> KeyFrame " +
+                             std::to_string(m.loop_kf_id) + " (robot " + std::to_string(robot_of_keyframe(m.loop_kf_id)) +
+                             "), " + std::to_string(m.matches) + " matches";
+    log_info(line);
+    EventRow e = row("merge", data_now);
+    e.seq = m.current_kf_id;
+    e.detail = line;
+    recorder_.event(std::move(e));
+  }
+  merges_announced_ = merges.size();
+  return fresh;
 }
 
 bool EdgeSystem::save_map(const std::string& path, std::string* message) {
@@ -150,8 +196,38 @@ bool EdgeSystem::load_map(const std::string& path, std::string* message) {
   return true;
 }
 
+namespace {
+EdgeCounters total_counters(const EdgeSession& session) {
+  EdgeCounters t = session.counters(0);
+  for (int r = 1; r < session.robots(); ++r) {
+    const EdgeCounters c = session.counters(r);
+    t.received += c.received;
+    t.inserted += c.inserted;
+    t.duplicates += c.duplicates;
+    t.late_keyframes += c.late_keyframes;
+    t.rejected_condition1 += c.rejected_condition1;
+    t.rejected_condition2 += c.rejected_condition2;
+    t.invalid += c.invalid;
+    t.foreign_ids += c.foreign_ids;
+    t.resets += c.resets;
+    t.updates_built += c.updates_built;
+    t.relocalization_updates_built += c.relocalization_updates_built;
+  }
+  return t;  // the seqs are robot 0's: each robot has its own (ack)
+}
+std::string pose_json(const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.rotation());
+  const Eigen::Vector3d t = T.translation();
+  std::ostringstream o;
+  o.precision(9);
+  o << "[" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", " << q.z() << ", "
+    << q.w() << "]";
+  return o.str();
+}
+}  // namespace
+
 Figures EdgeSystem::stats() const {
-  const EdgeCounters c = session_->counters();
+  const EdgeCounters c = total_counters(*session_);
   const auto map = session_->global_map();
   Figures f;
   f.add("keyframes_received", static_cast<double>(c.received))
@@ -167,6 +243,8 @@ Figures EdgeSystem::stats() const {
       .add("global_map_keyframes", static_cast<double>(map->num_keyframes()))
       .add("global_map_points", static_cast<double>(map->num_map_points()))
       .add("loops_closed", static_cast<double>(session_->loops().size()))
+      .add("maps_merged", static_cast<double>(session_->merges().size()))
+      .add("keyframes_foreign_ids", static_cast<double>(c.foreign_ids))
       .add("mapping_idle", session_->mapping_idle() ? 1.0 : 0.0)
       .add("keyframe_received_seq", static_cast<double>(c.received_seq))
       .add("keyframe_durable_seq", static_cast<double>(durability_.durable_seq()))
@@ -180,11 +258,21 @@ Figures EdgeSystem::stats() const {
   return f;
 }
 
+// The Global-Map's KeyFrames in the world frame (several robots): those of a map not yet
+// joined with robot 0's stay in their own coordinates (the run's metrics say which: map_group).
+EdgeKeyFrames EdgeSystem::world_keyframes() const {
+  EdgeKeyFrames k = session_->keyframe_poses();
+  if (robots() == 1) return k;
+  for (KeyFramePose& p : k.in_map)
+    if (const auto T = session_->frames().T_world_group(session_->frames().group_of(p.id))) p.T_wc = *T * p.T_wc;
+  return k;
+}
+
 void EdgeSystem::write_outputs() {
   recorder_.flush();
   if (!recorder_.writes_metrics() && !recorder_.writes_keyframes()) return;
   std::lock_guard<std::mutex> write_lock(write_mutex_);
-  const EdgeCounters c = session_->counters();
+  const EdgeCounters c = total_counters(*session_);
   MetricsJson keyframes, m;
   keyframes.integer("received", static_cast<long long>(c.received))
       .integer("inserted", static_cast<long long>(c.inserted))
@@ -192,7 +280,8 @@ void EdgeSystem::write_outputs() {
       .integer("rejected_condition1", static_cast<long long>(c.rejected_condition1))
       .integer("rejected_condition2", static_cast<long long>(c.rejected_condition2))
       .integer("invalid", static_cast<long long>(c.invalid + malformed()))
-      .integer("resets", static_cast<long long>(c.resets));
+      .integer("resets", static_cast<long long>(c.resets))
+      .integer("foreign_ids", static_cast<long long>(c.foreign_ids));
   const auto map = session_->global_map();
   m.text("node", "edge")
       .object("keyframes", keyframes)
@@ -201,6 +290,38 @@ void EdgeSystem::write_outputs() {
       .object("malformed_keyframes", counts_by_kind(malformed_keyframes_.counter()))
       .object("malformed_frames", counts_by_kind(malformed_frames_.counter()));
   add_module_figures(m, session_->module_figures());
+  if (robots() > 1) {
+    // Per robot: its deliveries and where its map is (T_world_robot: x y z qx qy qz qw, or null
+    // before its map joined robot 0's); and every merge with its transform.
+    MetricsJson per_robot;
+    for (int r = 0; r < robots(); ++r) {
+      const EdgeCounters rc = session_->counters(r);
+      const RobotPlacement p = session_->placement(r);
+      MetricsJson one;
+      one.integer("keyframes_received", static_cast<long long>(rc.received))
+          .integer("keyframes_inserted", static_cast<long long>(rc.inserted))
+          .integer("keyframes_invalid", static_cast<long long>(rc.invalid))
+          .integer("foreign_ids", static_cast<long long>(rc.foreign_ids))
+          .integer("updates_built", static_cast<long long>(rc.updates_built))
+          .integer("map_group", p.group)
+          .raw("T_world_robot", p.T_world_robot ? pose_json(*p.T_world_robot) : "null");
+      {
+        std::lock_guard<std::mutex> lock(figures_mutex_);
+        one.timing("update_latency_ms", update_latency_by_robot_[r]).timing("keyframe_transmit_ms", keyframe_latency_by_robot_[r]);
+      }
+      per_robot.object(std::to_string(r), one);
+    }
+    m.object("robots", per_robot);
+    std::string merges = "[";
+    for (const MergeEvent& e : session_->merges()) {
+      if (merges.size() > 1) merges += ", ";
+      merges += "{\"keyframe\": " + std::to_string(e.current_kf_id) + ", \"loop_keyframe\": " +
+                std::to_string(e.loop_kf_id) + ", \"robot\": " + std::to_string(robot_of_keyframe(e.current_kf_id)) +
+                ", \"loop_robot\": " + std::to_string(robot_of_keyframe(e.loop_kf_id)) + ", \"matches\": " +
+                std::to_string(e.matches) + ", \"T_into_from\": " + pose_json(e.T_into_from) + "}";
+    }
+    m.raw("merges", merges + "]");
+  }
   {
     std::lock_guard<std::mutex> lock(figures_mutex_);
     m.integer("updates_sent", static_cast<long long>(updates_sent_))
@@ -211,7 +332,7 @@ void EdgeSystem::write_outputs() {
   }
   try {
     recorder_.metrics(m);
-    if (recorder_.writes_keyframes()) recorder_.keyframes(session_->keyframe_poses());
+    if (recorder_.writes_keyframes()) recorder_.keyframes(world_keyframes());
   } catch (const std::exception& e) {
     if (write_error_log_.allow(clock_())) log_error(e.what());
   }

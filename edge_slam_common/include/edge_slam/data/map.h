@@ -54,6 +54,9 @@ class Map {
   // Map points this map creates get ids in [first, end); ids outside it (points created by
   // the other side of the split) never move this map's allocator. Default: every id.
   void set_map_point_id_space(uint32_t first, uint32_t end);
+  // The same for KeyFrames: a mobile's Local-Map holds other robots' KeyFrames after a merge
+  // (util/robot_ids.h), and those must not move its own allocator.
+  void set_keyframe_id_space(uint32_t first, uint32_t end);
   // Makes future ids larger than any id already used (e.g. ids coming from another map).
   void reserve_ids(uint32_t next_kf_id, uint32_t next_mp_id);
   // The ids the allocators would hand out next, without taking them (map persistence).
@@ -73,7 +76,9 @@ class Map {
   std::atomic<uint32_t> next_kf_id_{0};
   std::atomic<uint32_t> next_mp_id_{0};
   uint32_t mp_id_first_ = 0, mp_id_end_ = kNoId;
+  uint32_t kf_id_first_ = 0, kf_id_end_ = kNoId;
   void raise_map_point_ids_past(uint32_t id);
+  void raise_keyframe_ids_past(uint32_t id);
 };
 
 }  // namespace edge_slam

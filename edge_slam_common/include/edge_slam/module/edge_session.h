@@ -23,6 +23,7 @@
 #include "edge_slam/module/keyframe_receipts.h"
 #include "edge_slam/module/mapping_threads.h"
 #include "edge_slam/module/module_metrics.h"
+#include "edge_slam/module/robot_frames.h"
 
 namespace edge_slam {
 
@@ -35,6 +36,10 @@ class ConfigMap;
 inline constexpr uint32_t kPointIdGapAfterRestore = 1u << 22;
 
 struct EdgeSessionParams {
+  // Mobiles served (issue #16): robot r sends KeyFrames with ids of its own (util/robot_ids.h).
+  // 1 = the paper's one mobile; with more, maps of robots that see the same place are merged
+  // (module/robot_frames.h) and a reset clears only the resetting robot's current map.
+  int robots = 1;
   int update_size = 6;                      // KeyFrames per Local-Map update (paper: 6)
   // Which KeyFrames a periodic update carries. kNewest: the update_size most recently inserted
   // (paper 4.5). kCovisible: the newest one and the KeyFrames the Global-Map sees most points in
@@ -78,6 +83,7 @@ struct EdgeCounters {
   uint64_t received = 0, inserted = 0, duplicates = 0, rejected_condition1 = 0, rejected_condition2 = 0;
   uint64_t late_keyframes = 0;  // backlog KeyFrames exempted from condition 2 (late_keyframe_age)
   uint64_t invalid = 0, resets = 0, updates_built = 0, relocalization_updates_built = 0;
+  uint64_t foreign_ids = 0;  // of them invalid: ids of another robot than the sender (util/robot_ids.h)
   uint64_t last_seq = 0;  // highest KeyFrame seq received (acknowledged in updates)
   uint64_t received_seq = 0;  // every seq up to this one received (delivery acknowledgement)
   uint64_t mapped_seq = 0;    // every seq up to this one decided and, if inserted, through Local-Mapping
@@ -92,16 +98,18 @@ class EdgeSession {
   ~EdgeSession();
 
   // `now`: wall-clock seconds (condition 2 exempts backlog KeyFrames by their age, edge_keyframe_decision.h).
-  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, double now, std::string* error = nullptr);
+  // `robot`: which mobile sent it (0..robots-1); its ids must be that robot's (foreign: kInvalid).
+  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, double now, std::string* error = nullptr,
+                                   int robot = 0);
   // The mobile will never send a seq <= floor again (module/keyframe_delivery.h).
-  void skip_keyframes_through(uint64_t floor);
+  void skip_keyframes_through(uint64_t floor, int robot = 0);
   // Every KeyFrame seq up to this one has been decided and, when inserted, processed by
   // Local-Mapping: acknowledged to the mobile as "Local-Mapping idle" for its condition 2.
-  uint64_t mapped_seq() const;
-  // Nullopt until a KeyFrame was inserted.
-  std::optional<MapUpdateRecord> build_local_map_update(double now);
+  uint64_t mapped_seq(int robot = 0) const;
+  // Nullopt until a KeyFrame was inserted. Updates are expressed in the robot's own frame.
+  std::optional<MapUpdateRecord> build_local_map_update(double now, int robot = 0);
   std::optional<MapUpdateRecord> build_relocalization_update(const FrameRecord& frame, double now,
-                                                             std::string* error = nullptr);
+                                                             std::string* error = nullptr, int robot = 0);
   // Waits (bounded) for Local-Mapping and Loop-Closing to finish what is queued.
   bool wait_until_idle(double timeout_s) const;
 
@@ -113,11 +121,16 @@ class EdgeSession {
   uint64_t save_map(const std::string& path) const;
   void load_map(const std::string& path);
 
-  EdgeCounters counters() const;
+  EdgeCounters counters(int robot = 0) const;
+  int robots() const { return static_cast<int>(robots_.size()); }
   std::shared_ptr<const Map> global_map() const { return map_; }
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
-  KeyFrameAccount keyframe_account() const;
+  std::vector<MergeEvent> merges() const;
+  // Where the robot's map is: its group and, once placed, TF world -> robotN/map.
+  RobotPlacement placement(int robot) const { return frames_.placement(robot); }
+  const RobotFrames& frames() const { return frames_; }
+  KeyFrameAccount keyframe_account(int robot = 0) const;
   // The Global-Map's KeyFrame poses and, for each KeyFrame Local-Mapping culled since the last
   // reset or load, its parent and pose relative to it then: what the final trajectory is
   // composed from (data/trajectory_anchors.h). Culled links do not survive load_map.
@@ -129,8 +142,28 @@ class EdgeSession {
  private:
   void start_modules();
   void stop_modules();
-  void reset_locked();
-  MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs) const;
+  // One mobile's side of the session: its deliveries, conditions 1-2, updates, counters.
+  struct RobotState {
+    std::unordered_set<uint32_t> seen_ids;
+    KeyFrameReceipts receipts;  // survives a reset: the mobile's seqs go on
+    // Every KeyFrame id inserted since the last reset, in insertion order: the newest make the
+    // periodic update; all of them are the accounting (4 bytes per KeyFrame on the edge).
+    std::vector<uint32_t> inserted_ids;
+    uint64_t last_inserted_frame_id = 0;
+    bool any_inserted = false;
+    uint64_t last_relocalization_frame_id = 0;
+    bool relocalization_sent = false;
+    uint64_t next_update_seq = 1;
+    EdgeCounters counters;
+    // Points of refused KeyFrames, by id, oldest first (bounded by pending_point_capacity),
+    // in the robot's own frame (moved into the Global-Map's when adopted).
+    std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> pending_points;
+    std::deque<uint32_t> pending_order;
+  };
+  void reset_locked(int robot);
+  void clear_robot(RobotState& rs);
+  MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs, int robot) const;
+  bool multi() const { return robots_.size() > 1; }
 
   PinholeCamera camera_;
   std::shared_ptr<const ScalePyramid> pyramid_;
@@ -144,26 +177,15 @@ class EdgeSession {
   std::shared_ptr<MappingThreads> modules() const;
 
   mutable std::mutex mutex_;  // receive / build / reset
-  std::unordered_set<uint32_t> seen_ids_;
-  KeyFrameReceipts receipts_;  // survives a reset: the mobile's seqs go on
-  // Every KeyFrame id inserted since the last reset, in insertion order: the newest make the
-  // periodic update; all of them are the accounting (4 bytes per KeyFrame on the edge).
-  std::vector<uint32_t> inserted_ids_;
+  std::vector<RobotState> robots_;
+  RobotFrames frames_;
+  uint64_t transform_passes_ = 0;  // MapPoint::transform_once passes of received points
   mutable std::mutex culled_mutex_;        // culled_* are written by the Local-Mapping thread
   std::vector<uint32_t> culled_ids_;
   std::vector<KeyFrameLink> culled_links_;  // of the KeyFrames culled since the last reset or load
-  uint64_t last_inserted_frame_id_ = 0;
-  bool any_inserted_ = false;
-  uint64_t last_relocalization_frame_id_ = 0;
-  bool relocalization_sent_ = false;
-  uint64_t next_update_seq_ = 1;
-  EdgeCounters counters_;
   mutable std::mutex mapping_seq_mutex_;    // written by the Local-Mapping thread too
   std::map<uint32_t, uint64_t> in_mapping_;  // inserted KeyFrame id -> seq, until Local-Mapping is done with it
-  // Points of refused KeyFrames, by id, oldest first (bounded by pending_point_capacity).
-  std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> pending_points_;
-  std::deque<uint32_t> pending_order_;
-  void keep_pending_points(const KeyFrameRecord& r);
+  void keep_pending_points(RobotState& rs, const KeyFrameRecord& r);
 };
 
 }  // namespace edge_slam

@@ -6,6 +6,7 @@
 //   "loop closed: KF <current> <-> KF <loop>, <n> matches".
 #pragma once
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -41,12 +42,32 @@ struct LoopEvent {
   LoopCorrectionReport correction;
 };
 
+// Two maps joined (several robots, module/robot_frames.h): the current KeyFrame's group was
+// moved into the loop KeyFrame's group's coordinates by T_into_from, then corrected as a loop.
+struct MergeEvent {
+  uint32_t current_kf_id = 0, loop_kf_id = 0;
+  int group_from = 0, group_into = 0;
+  int matches = 0;
+  Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
+  LoopCorrectionReport correction;
+};
+
 class LoopClosing {
  public:
   // local_mapping may be null (then nothing is paused: single-threaded use and tests).
   LoopClosing(std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
               LocalMapping* local_mapping, const LoopClosingParams& params = {});
   ~LoopClosing();
+
+  // Several maps in one (module/robot_frames.h), set before start(): the group of a KeyFrame.
+  // A verified loop between KeyFrames of two groups is a merge: every KeyFrame and point of the
+  // current KeyFrame's group moves rigidly into the loop KeyFrame's group's coordinates, then
+  // the loop is corrected (points fused, essential graph) and a full BA runs, as for a loop.
+  // on_merge runs with Map::update_mutex() held, right after the move (the owner re-labels the
+  // groups there, so no KeyFrame is received in between with the old transform); it must take
+  // no lock but leaf locks. Unset: one group, no merges (one robot).
+  std::function<int(uint32_t kf_id)> group_of;
+  std::function<void(int from, int into, const Eigen::Isometry3d& T_into_from)> on_merge;
 
   void start();
   void shutdown(bool drain = true);  // also waits for a running full BA
@@ -58,6 +79,7 @@ class LoopClosing {
 
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
+  std::vector<MergeEvent> merges() const;
   int full_ba_runs() const;
   std::vector<double> detection_times_ms() const;   // detection + verification per keyframe
   std::vector<double> correction_times_ms() const;
@@ -66,6 +88,9 @@ class LoopClosing {
  private:
   void run();
   void run_full_ba(uint32_t loop_kf_id);
+  // Moves the current KeyFrame's group into the loop KeyFrame's; the caller holds the map update mutex.
+  Eigen::Isometry3d move_group(const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match, int from, int into);
+  void start_full_ba(uint32_t kf_id);
   void stop_full_ba();
 
   std::shared_ptr<Map> map_;
@@ -86,6 +111,8 @@ class LoopClosing {
 
   mutable std::mutex stats_mutex_;
   std::vector<LoopEvent> loops_;
+  std::vector<MergeEvent> merges_;
+  uint64_t merge_passes_ = 0;
   int full_ba_runs_ = 0;
   std::vector<double> detect_ms_, correct_ms_, full_ba_ms_;
 };

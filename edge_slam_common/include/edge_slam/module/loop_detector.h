@@ -4,6 +4,7 @@
 // a row before it is handed on for geometric verification.
 #pragma once
 #include <memory>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -25,10 +26,8 @@ class LoopDetector {
   // Consistent candidates for `kf` (empty most of the time). Updates the group history.
   std::vector<std::shared_ptr<KeyFrame>> detect(const Map& map, const KeyFrameDatabase& database,
                                                 const std::shared_ptr<KeyFrame>& kf);
-  void set_last_loop_keyframe(uint32_t kf_id) {
-    last_loop_kf_id_ = kf_id;
-    has_loop_ = true;
-  }
+  // No detection for the next min_keyframes_after_loop KeyFrames of the same robot.
+  void set_last_loop_keyframe(uint32_t kf_id);
   double last_min_score() const { return last_min_score_; }
   size_t last_raw_candidates() const { return last_raw_candidates_; }
 
@@ -39,8 +38,7 @@ class LoopDetector {
   };
   LoopDetectorParams params_;
   std::vector<Group> groups_;
-  uint32_t last_loop_kf_id_ = 0;
-  bool has_loop_ = false;
+  std::map<int, uint32_t> last_loop_kf_ids_;  // robot (util/robot_ids.h) -> its KeyFrame of the last loop
   double last_min_score_ = 0;
   size_t last_raw_candidates_ = 0;
 };

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <list>
+#include <vector>
 #include <utility>
 
 #include "edge_slam/data/map.h"
@@ -30,6 +31,9 @@ class RecentMapPoints {
  private:
   MapPointCullingParams params_;
   std::list<std::pair<uint32_t, uint32_t>> points_;  // map point id, creating keyframe id
+  // Per robot (util/robot_ids.h), the newest KeyFrame id processed: a point's age counts the
+  // KeyFrames of the robot whose KeyFrame made it (ids of different robots do not compare).
+  std::vector<uint32_t> newest_by_robot_;
 };
 
 }  // namespace edge_slam

@@ -25,6 +25,9 @@
 namespace edge_slam {
 
 struct MobileSessionParams {
+  // Which robot this is when one edge serves several (util/robot_ids.h): its KeyFrame and point
+  // ids come from its own ranges. 0 = the one mobile of the paper (the ids it always had).
+  int robot_index = 0;
   MapUpdatePolicyParams policy;             // ITC 300 ms, LMU 6
   double relocalization_frame_period = 0.5; // seconds between Frames sent while lost
   size_t outbox_capacity = 2000;            // KeyFrame records waiting for the sender

@@ -13,6 +13,7 @@
 // Time and boot ids are arguments/injected, so the gtests need neither a clock nor a filesystem race.
 // Thread-safe.
 #pragma once
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -20,6 +21,7 @@
 
 #include "edge_slam/module/keyframe_delivery.h"
 #include "edge_slam/util/log_throttle.h"
+#include "edge_slam/util/robot_ids.h"
 
 namespace edge_slam {
 
@@ -52,8 +54,9 @@ class EdgeDurability {
   // ~load_map (empty path = the checkpoint file); throws std::runtime_error with the reason.
   void load(const std::string& path);
 
-  KeyFrameAck ack();
-  bool mapping_progressed() const;
+  // Per robot (one edge, several mobiles: each has its own seqs; the boot id is the edge's).
+  KeyFrameAck ack(int robot = 0);
+  bool mapping_progressed(int robot = 0) const;
 
   uint64_t boot_id() const { return boot_id_; }
   uint64_t durable_seq() const { return durable_seq_; }
@@ -63,7 +66,8 @@ class EdgeDurability {
   EdgeSession& session_;
   DurabilityParams params_;
   BootIds boot_ids_;
-  std::atomic<uint64_t> boot_id_{0}, durable_seq_{0}, checkpoints_{0}, last_acked_mapped_seq_{0};
+  std::atomic<uint64_t> boot_id_{0}, durable_seq_{0}, checkpoints_{0};
+  std::array<std::atomic<uint64_t>, kMaxRobots> last_acked_mapped_seq_{};
   std::atomic<bool> checkpointing_{false};
   LogThrottle failure_log_{30.0};
 };

@@ -45,20 +45,26 @@ class EdgeSystem {
   // A message that did not decode or broke the record rules: counted per topic and reason,
   // logged once per kind, then throttled.
   void reject(Topic topic, const std::string& why, size_t bytes);
-  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, size_t bytes);
-  void skip_keyframes_through(uint64_t floor) { session_->skip_keyframes_through(floor); }
+  // `robot`: which mobile's topic it came on (0..robots()-1; one mobile: 0).
+  KeyFrameVerdict receive_keyframe(const KeyFrameRecord& record, size_t bytes, int robot = 0);
+  void skip_keyframes_through(uint64_t floor, int robot = 0) { session_->skip_keyframes_through(floor, robot); }
   // A relocalization request answered with an update, if there is one to give.
-  std::optional<MapUpdateRecord> answer_frame(const FrameRecord& frame, size_t bytes);
-  std::optional<MapUpdateRecord> periodic_update();
+  std::optional<MapUpdateRecord> answer_frame(const FrameRecord& frame, size_t bytes, int robot = 0);
+  std::optional<MapUpdateRecord> periodic_update(int robot = 0);
+  int robots() const { return session_->robots(); }
   // Around publishing an update: the publish stamp it carries, then its figures and CSV row
   // (construction latency = build start -> serialised and handed over).
   void stamp_for_publishing(MapUpdateRecord& update) const;
-  void published(const MapUpdateRecord& update, size_t bytes, double data_now);
+  void published(const MapUpdateRecord& update, size_t bytes, double data_now, int robot = 0);
 
-  KeyFrameAck ack() { return durability_.ack(); }
-  bool mapping_progressed() const { return durability_.mapping_progressed(); }
+  KeyFrameAck ack(int robot = 0) { return durability_.ack(robot); }
+  bool mapping_progressed(int robot = 0) const { return durability_.mapping_progressed(robot); }
   // "loop closed: ..." once per loop: logged, in the CSV, and returned for the loops topic.
   std::vector<std::string> new_loops(double data_now);
+  // Maps of two robots joined since the last call: logged, in the CSV, returned for ~merges.
+  std::vector<MergeEvent> new_merges(double data_now);
+  // TF world -> robotN/map, once the robot's map is placed in the world.
+  std::optional<Eigen::Isometry3d> T_world_robot(int robot) const { return session_->placement(robot).T_world_robot; }
 
   bool checkpoint(const char* why) { return durability_.checkpoint(why, clock_()); }
   bool save_map(const std::string& path, std::string* message);
@@ -75,6 +81,7 @@ class EdgeSystem {
 
  private:
   EventRow row(const char* event, double data_time) const;
+  EdgeKeyFrames world_keyframes() const;
 
   EdgeSystemSettings settings_;
   WallClock clock_;
@@ -85,10 +92,12 @@ class EdgeSystem {
                                     "rejecting malformed messages on 'keyframes'"};
   RejectionLog malformed_frames_{"rejecting a malformed message on 'frames'", "rejecting malformed messages on 'frames'"};
   LogThrottle invalid_keyframe_log_{5.0}, refused_frame_log_{5.0}, write_error_log_{30.0};
-  size_t loops_announced_ = 0;  // new_loops: the stats timer only
+  size_t loops_announced_ = 0, merges_announced_ = 0;  // new_loops / new_merges: the stats timer only
   mutable std::mutex figures_mutex_;
   std::vector<double> keyframe_latency_ms_, update_build_ms_;
   uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
+  std::vector<std::vector<double>> update_latency_by_robot_;  // build start -> published, ms
+  std::vector<std::vector<double>> keyframe_latency_by_robot_;
   std::mutex write_mutex_;  // write_outputs: timer and destructor
 };
 
