@@ -8,19 +8,24 @@
 #   make bench [DATASET=<TUM folder or bag> ...] [OUT=<dir>]   benchmark suite -> OUT/report.md, bench.json
 #   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
 #   make test-asan                   ASan+UBSan build: every unit test + one monolithic run
+#   make dataset-multi               the default data plus a second robot in the same room (issue #16):
+#                                    bags/synthetic_room_robot2/ + .bag (on demand only, not in setup)
 SHELL := /bin/bash
 DATASET ?= bags/synthetic_room
 MODE ?= monolithic
 OUT ?= results/$(notdir $(DATASET))-$(MODE)
 HEADLESS ?= 0
 
-.PHONY: setup demo test test-split eval bench dataset build
+.PHONY: setup demo test test-split eval bench dataset dataset-multi build
 setup:
 	bash scripts/setup.sh
 build:
 	bash scripts/build.sh
 dataset:
 	bash scripts/make_dataset.sh --force
+# Both robots: robot 1 (the default, as setup makes it) and robot 2; each skipped when up to date.
+dataset-multi:
+	bash scripts/make_dataset.sh && bash scripts/make_dataset.sh --robot2
 demo: setup
 	HEADLESS=$(HEADLESS) bash scripts/demo.sh
 test:

@@ -36,6 +36,8 @@ Trajectory::Trajectory(uint64_t seed, const TrajectoryOptions& options) : option
   duration_ = options_.loop_seconds * options_.loops;
   turn_centre_ = 0.5 * duration_;
   pause_half_width_ = options_.turn_degrees > 0 ? 3.0 * options_.turn_seconds : 0.0;
+  if (!std::isfinite(options_.start_phase))
+    throw std::invalid_argument("the trajectory's start phase is not a finite number");
   if (options_.turn_degrees > 0 &&
       (turn_start() < pause_half_width_ || look_away_end() + pause_half_width_ > duration_))
     throw std::invalid_argument("the look-away turn does not fit in the trajectory's duration");
@@ -86,7 +88,8 @@ double Trajectory::turn_yaw(double t) const {
 
 Eigen::Isometry3d Trajectory::pose_at(double t) const {
   t = std::clamp(t, 0.0, duration_);
-  const double theta = loop_angle(t);
+  // start_phase 0 adds exactly 0: robot 1's path is bit-for-bit what it was before the option.
+  const double theta = 2 * M_PI * options_.start_phase + loop_angle(t);
   const Eigen::Vector3d position(options_.radius_x * std::cos(theta) + wobble(t, 0) + wobble(t, 1),
                                  options_.radius_y * std::sin(theta) + wobble(t, 2) + wobble(t, 3),
                                  options_.height + wobble(t, 4) + wobble(t, 5));

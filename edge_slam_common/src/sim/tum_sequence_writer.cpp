@@ -26,8 +26,20 @@ SequenceOptions SequenceOptions::long_variant(uint64_t seed) {
   return o;
 }
 
+SequenceOptions SequenceOptions::second_robot(uint64_t seed) {
+  SequenceOptions o;
+  o.seed = seed;
+  o.path_seed = seed + 1;
+  o.trajectory.start_phase = 0.5;
+  o.trajectory.turn_degrees = 0;
+  o.trajectory.radius_x = 1.7;
+  o.trajectory.radius_y = 1.0;
+  o.trajectory.height = 1.3;
+  return o;
+}
+
 int sequence_frame_count(const SequenceOptions& o) {
-  const Trajectory trajectory(o.seed, o.trajectory);
+  const Trajectory trajectory(o.camera_seed(), o.trajectory);
   // The last frame lands exactly on the end of the loop, i.e. back at the start pose.
   const int all = static_cast<int>(std::floor(trajectory.duration() * o.fps + 1e-9)) + 1;
   return o.max_frames >= 0 ? std::min(all, o.max_frames) : all;
@@ -67,18 +79,34 @@ std::string pose_text(const Eigen::Isometry3d& T) {
   return buf;
 }
 
+// The path's parameters for the list headers, only where they differ from the embedded default
+// (whose files must stay byte-identical): "" for robot 1.
+std::string path_note(const SequenceOptions& o) {
+  const TrajectoryOptions d;
+  const TrajectoryOptions& t = o.trajectory;
+  if (!o.path_seed && t.start_phase == d.start_phase && t.radius_x == d.radius_x &&
+      t.radius_y == d.radius_y && t.height == d.height && t.turn_degrees == d.turn_degrees &&
+      t.loop_seconds == d.loop_seconds)
+    return "";
+  char buf[256];
+  std::snprintf(buf, sizeof buf, " path seed %llu start phase %g ellipse %g x %g m height %g m loop %g s turn %g deg",
+                static_cast<unsigned long long>(o.camera_seed()), t.start_phase, t.radius_x,
+                t.radius_y, t.height, t.loop_seconds, t.turn_degrees);
+  return buf;
+}
+
 void render_all(const fs::path& dir, const SequenceOptions& o, const ProgressFn& progress,
                 SequenceReport& report) {
   using Clock = std::chrono::steady_clock;
   fs::create_directories(dir / "rgb");
   fs::create_directories(dir / "depth");
   const Scene scene = Scene::build(o.seed, o.texels_per_m);
-  const Trajectory trajectory(o.seed, o.trajectory);
+  const Trajectory trajectory(o.camera_seed(), o.trajectory);
   const PinholeCamera camera = synthetic_room_camera(o.fps);
   RenderOptions render_options;
   render_options.supersample = o.supersample;
 
-  const std::string origin = "edge_slam_synth seed " + std::to_string(o.seed);
+  const std::string origin = "edge_slam_synth seed " + std::to_string(o.seed) + path_note(o);
   auto header = [&](std::ofstream& f, const char* what, const char* columns) {
     f << "# " << what << "\n# file: '" << origin << "'\n# " << columns << "\n";
   };
@@ -101,7 +129,7 @@ void render_all(const fs::path& dir, const SequenceOptions& o, const ProgressFn&
     const auto start = Clock::now();
     RenderedFrame frame = render(scene, camera, T_wc, render_options);
     report.render_seconds += std::chrono::duration<double>(Clock::now() - start).count();
-    if (o.sensor_noise) add_sensor_noise(frame.bgr, o.seed, static_cast<uint64_t>(i));
+    if (o.sensor_noise) add_sensor_noise(frame.bgr, o.camera_seed(), static_cast<uint64_t>(i));
 
     const std::string rgb_name = "rgb/" + stamp + rgb_ext, depth_name = "depth/" + stamp + ".png";
     write_image(dir / rgb_name, frame.bgr, rgb_params);

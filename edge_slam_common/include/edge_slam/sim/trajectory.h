@@ -5,6 +5,9 @@
 // fast turn can make tracking fail, and the way back faces already-mapped walls so that
 // relocalization has something to find. The path ends exactly at its start pose (every
 // wobble term makes an integer number of cycles; the look-away nets zero yaw).
+// A second robot (issue #16) walks the same kind of loop in the same room and world frame,
+// from another point of it (start_phase), optionally on another ellipse and height and without
+// the look-away (turn_degrees = 0): SequenceOptions::second_robot() in tum_sequence_writer.h.
 #pragma once
 #include <Eigen/Geometry>
 
@@ -21,6 +24,10 @@ struct TrajectoryOptions {
   double return_seconds = 4.0;  // the slow turn back (< 2 degrees per frame at 30 fps)
   double height = 1.4;          // mean camera height above the floor (m)
   double radius_x = 2.0, radius_y = 1.2;  // loop ellipse half-axes (m)
+  // Where on the loop the path starts and ends, as a fraction of a loop counter-clockwise
+  // from (radius_x, 0) looking along +x: 0 = robot 1's start, 0.5 = the far side of the
+  // room, looking along -x. The walk itself (direction, speed, turn time) is unchanged.
+  double start_phase = 0.0;
 };
 
 class Trajectory {
