@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Cut a TUM-format folder into consecutive parts, one per robot of a multi-robot run: part k
-holds the k-th stretch of the colour frames, the depth frame nearest to each one (as the trackers
-associate them) and the ground truth over its time span, so robot 2 starts mid-sequence.
+holds the k-th stretch of the colour frames, the depth frames of the same stretch and the ground
+truth over its time span, so robot 2 starts mid-sequence.
 
 usage: split_dataset.py <src TUM folder> <dst part 1> <dst part 2> [<dst part 3> ...]
                         [--overlap N] [--force] [--json]
@@ -27,7 +27,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'edge_slam_common', 'python'))
 from edge_slam_common.tum import InputError, read_list, read_poses, stamp_seconds  # noqa: E402
-from subsample_dataset import nearest, write_list  # noqa: E402
+from subsample_dataset import write_list  # noqa: E402
 
 GT_MARGIN = 0.1  # s of ground truth kept before the first and after the last colour frame of a part
 
@@ -50,16 +50,20 @@ def ranges(n_frames, n_parts, overlap):
 
 
 def split(rgb, depth, gt, n_parts, overlap=0):
-    """[(colour entries, depth entries, ground-truth poses)] of each part."""
+    """[(colour entries, depth entries, ground-truth poses)] of each part. A part keeps every depth
+    frame of its span (from half-way to the colour frame before it to half-way to the one after
+    it), so each part replays exactly what the sequence had then."""
     if not rgb or not depth:
         raise ValueError('rgb.txt and depth.txt must list frames')
-    depth_stamps = [stamp_seconds(d[0]) for d in depth]
+    colour_stamps = [stamp_seconds(c[0]) for c in rgb]
     parts = []
     for first, end in ranges(len(rgb), n_parts, overlap):
         colour = rgb[first:end]
-        picked = sorted({nearest(depth_stamps, stamp_seconds(c[0])) for c in colour})
-        t0, t1 = stamp_seconds(colour[0][0]) - GT_MARGIN, stamp_seconds(colour[-1][0]) + GT_MARGIN
-        parts.append((colour, [depth[i] for i in picked], [p for p in gt if t0 <= stamp_seconds(p[0]) <= t1]))
+        lo = (colour_stamps[first - 1] + colour_stamps[first]) / 2 if first > 0 else float('-inf')
+        hi = (colour_stamps[end - 1] + colour_stamps[end]) / 2 if end < len(rgb) else float('inf')
+        t0, t1 = colour_stamps[first] - GT_MARGIN, colour_stamps[end - 1] + GT_MARGIN
+        parts.append((colour, [d for d in depth if lo <= stamp_seconds(d[0]) < hi],
+                      [p for p in gt if t0 <= stamp_seconds(p[0]) <= t1]))
     return parts
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """split_dataset.py on a tiny TUM folder: consecutive parts of the colour frames, each with its
-nearest depth frames and the ground truth of its span (source lines unchanged), an optional
+depth frames and the ground truth of its span (source lines unchanged), an optional
 overlap, symlinks for the rest, and bad input refused with one clear error."""
 import json
 import os
@@ -52,12 +52,13 @@ class SplitTest(unittest.TestCase):
 
     def test_each_part_has_its_depth_and_ground_truth(self):
         rgb = entries([1.0, 1.1, 1.2, 1.3, 1.4, 1.5], 'rgb')
-        depth = entries([1.01, 1.09, 1.21, 1.32, 1.41, 1.52], 'depth')
+        depth = entries([1.01, 1.09, 1.21, 1.24, 1.32, 1.41, 1.52], 'depth')  # 1.24: nobody's nearest, kept
         gt = poses([0.85, 0.95, 1.15, 1.25, 1.35, 1.55, 1.65])
         (c1, d1, g1), (c2, d2, g2) = split(rgb, depth, gt, 2)
         self.assertEqual([c[1] for c in c1], ['rgb/1.000000.png', 'rgb/1.100000.png', 'rgb/1.200000.png'])
         self.assertEqual([c[1] for c in c2], ['rgb/1.300000.png', 'rgb/1.400000.png', 'rgb/1.500000.png'])
-        self.assertEqual([d[1] for d in d1], ['depth/1.010000.png', 'depth/1.090000.png', 'depth/1.210000.png'])
+        self.assertEqual([d[1] for d in d1], ['depth/1.010000.png', 'depth/1.090000.png', 'depth/1.210000.png',
+                                              'depth/1.240000.png'])
         self.assertEqual([d[1] for d in d2], ['depth/1.320000.png', 'depth/1.410000.png', 'depth/1.520000.png'])
         self.assertEqual([p[2] for p in g1], [2, 3, 4], 'ground truth from 0.9 to 1.3 s (0.1 s margin)')
         self.assertEqual([p[2] for p in g2], [4, 5, 6], 'ground truth from 1.2 to 1.6 s')
