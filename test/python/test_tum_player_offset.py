@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""tum_player --time-offset: stamps moved exactly (no float rounding of 1.3e9 s stamps), in
-both directions, and never before time zero; a bad offset is refused by the command line."""
+"""tum_player --time-offset (tum_to_bag's shifted(), shared with tum_to_bag --time-offset): stamps
+moved exactly (no float rounding of 1.3e9 s stamps), in both directions, and never before time
+zero; a bad offset is refused by the command line."""
 import importlib.machinery
 import importlib.util
 import os
@@ -9,11 +10,12 @@ import unittest
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 PLAYER = os.path.join(ROOT, 'edge_slam_common', 'scripts', 'tum_player')
+TUM_TO_BAG = os.path.join(ROOT, 'edge_slam_common', 'scripts', 'tum_to_bag')
 
 
 def load_player():
-    loader = importlib.machinery.SourceFileLoader('tum_player', PLAYER)
-    spec = importlib.util.spec_from_loader('tum_player', loader)
+    loader = importlib.machinery.SourceFileLoader('tum_to_bag', TUM_TO_BAG)
+    spec = importlib.util.spec_from_loader('tum_to_bag', loader)
     module = importlib.util.module_from_spec(spec)
     loader.exec_module(module)
     return module
