@@ -13,11 +13,11 @@
 #           else DATASET cut into ROBOTS (2) consecutive parts (scripts/split_dataset.py, overlap
 #           MULTI_OVERLAP colour frames, default 0) in results/cache/: robot 2 starts mid-sequence.
 #   clock:  all robots start at once on one /clock (edge_slam.launch says why): robot K's stamps
-#           are moved by (robot 1's first stamp - robot K's first stamp). A robot is played from
-#           its bag (rosbag play, as recorded) when the bag exists and needs no move (< 0.5 s),
-#           else from its folder (tum_player --time-offset). MULTI_SOURCE=folder|bag forces one
-#           (bag: converted into results/cache/ when missing; refused when a move is needed).
-#           The clock robot is the one whose data ends last.
+#           are moved by (robot 1's first stamp - robot K's first stamp). A robot is played by
+#           rosbag from <folder>.bag when that exists and needs no move (< 0.5 s), else from its
+#           folder converted once (tum_to_bag --time-offset) into results/cache/ (git-ignored);
+#           MULTI_SOURCE=folder plays the folders live instead (tum_player --time-offset: decodes
+#           as it goes, late on a loaded machine). The clock robot is the one whose data ends last.
 #   env: DATASET OUT CAMERA VOCABULARY (resolved by eval.sh); SLAM_CONFIG (config/slam.yaml);
 #        MERGES_FILE (the edge's per-robot T_world_robot file, default below);
 #        MULTI_LAUNCH_ARGS extra roslaunch arguments; EVAL_ROS_PORT (default 11392);
@@ -40,7 +40,7 @@ OUT=$(cd "$OUT" && pwd)
 # the one place to change when the edge's name for it is settled.
 MERGES_FILE="${MERGES_FILE:-$OUT/edge_keyframes.txt.merges.txt}"
 [[ "$CAMERA" = /* ]] || CAMERA="$ROOT/$CAMERA"
-case "$MULTI_SOURCE" in auto|folder|bag) ;; *) die "MULTI_SOURCE must be auto, folder or bag (not '$MULTI_SOURCE')" ;; esac
+case "$MULTI_SOURCE" in auto|folder) ;; *) die "MULTI_SOURCE must be auto or folder (not '$MULTI_SOURCE')" ;; esac
 [[ "$MULTI_OVERLAP" =~ ^[0-9]+$ ]] || die "MULTI_OVERLAP must be a number of frames (not '$MULTI_OVERLAP')"
 
 # ---- the robots' data -----------------------------------------------------------------------
@@ -98,24 +98,20 @@ for k in $(seq "$N"); do
   offset=$(awk -v a="${SPAN[0]}" -v b="${SPAN[$((2*k-2))]}" 'BEGIN { printf "%.6f", a - b }')
   end=$(awk -v e="${SPAN[$((2*k-1))]}" -v o="$offset" 'BEGIN { printf "%.6f", e + o }')
   needs_move=$(awk -v o="$offset" 'BEGIN { print (o < -0.5 || o > 0.5) ? 1 : 0 }')
-  bag="$d.bag"; [[ -f "$bag" ]] || bag="results/cache/$(basename "$d").bag"
-  source=folder
-  if [[ "$MULTI_SOURCE" == bag ]]; then
-    [[ $needs_move == 0 ]] || die "robot$k ($d) starts ${offset#-} s away from robot1: a bag cannot be re-stamped; use MULTI_SOURCE=auto|folder"
-    if [[ ! -f "$bag" ]]; then
-      mkdir -p results/cache
-      say "converting $d to $bag (rosbag of the TUM topics; once)"
-      rosrun edge_slam_common tum_to_bag "$d" "$bag" >&2
+  if [[ "$MULTI_SOURCE" == folder ]]; then   # played live by tum_player, its stamps moved as it goes
+    source=folder; path=$(realpath "$d"); LAUNCH_ROBOT_ARGS+=("folder$k:=$path" "time_offset$k:=$offset")
+  else   # a bag: the robot's own when it needs no move, else its folder converted once onto robot1's time
+    bag="$d.bag"
+    if [[ $needs_move == 1 || ! -f "$bag" ]]; then
+      bag="results/cache/$(basename "$d")$([[ $needs_move == 0 ]] || echo "_moved$offset").bag"
+      if [[ ! -f "$bag" || "$d/rgb.txt" -nt "$bag" ]]; then
+        mkdir -p results/cache
+        say "converting $d to $bag (rosbag of the TUM topics, stamps moved by $offset s; once, git-ignored)"
+        rosrun edge_slam_common tum_to_bag "$d" "$bag" --time-offset "$offset" >&2
+      fi
     fi
-    source=bag
-  elif [[ "$MULTI_SOURCE" == auto && -f "$bag" && $needs_move == 0 ]]; then
-    source=bag
-  fi
-  if [[ $source == bag ]]; then
-    offset=0.000000
-    path=$(realpath "$bag"); LAUNCH_ROBOT_ARGS+=("bag$k:=$path" "folder$k:=")
-  else
-    path=$(realpath "$d"); LAUNCH_ROBOT_ARGS+=("folder$k:=$path" "time_offset$k:=$offset")
+    [[ $needs_move == 1 ]] || offset=0.000000
+    source=bag; path=$(realpath "$bag"); LAUNCH_ROBOT_ARGS+=("bag$k:=$path" "folder$k:=")
   fi
   OFFSETS+=("$offset"); SOURCES+=("$source"); SOURCE_PATHS+=("$path")
   if [[ -z "$clock_end" ]] || awk -v a="$end" -v b="$clock_end" 'BEGIN { exit !(a > b + 1e-6) }'; then
@@ -177,6 +173,8 @@ say "every robot's data has been played; waiting for the edge's Local-Mapping, L
 PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m bench.ros_util edge-settled --timeout 180 \
   || say "the edge was still changing after 180 s; writing what it has"
 kill -INT "$echo_pid" 2>/dev/null; echo_pid=""
+# An empty record of a topic the edge never advertised says nothing: drop it.
+rostopic info /edge_slam/edge/merges > /dev/null 2>&1 || rm -f "$OUT/merges_topic.txt"
 kill -INT $launch_pid; wait $launch_pid 2>/dev/null || true
 launch_pid=""
 
