@@ -11,8 +11,9 @@ compose_trajectory from the robot's anchors and the edge's KeyFrames, world fram
 with a time offset (its stamps moved onto the clock robot's time) is compared with its ground truth
 moved by the same offset, written to OUT/<name>/groundtruth.txt. Merges, first found of: the edge's
 metrics ("merges": a count, or a list of merges), the merges file (one line per robot placed in
-the world, "<robot> <T_world_robot>"; merges = placed robots - 1), the recorded ~merges topic
-(OUT/merges_topic.txt, `rostopic echo -p`: one line per message after the header).
+the world, "<robot> <T_world_robot>"; merges = placed robots - 1), the "merge" events of
+OUT/edge_stats.csv, the recorded ~merges topic (OUT/merges_topic.txt, `rostopic echo -p`: one
+line per message after the header).
 Writes OUT/metrics.json and prints one summary line per figure. A figure that cannot be computed
 (no final trajectory, too few poses) is null in metrics.json, with its reason under "notes".
 """
@@ -23,6 +24,7 @@ import sys
 
 from .ate import ate_stats
 from .multi_ate import combined_ate
+from .bench_data import read_csv
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'edge_slam_common', 'python'))
 from edge_slam_common.tum import InputError, data_lines, read_poses, stamp_seconds  # noqa: E402
@@ -69,12 +71,15 @@ def merges_count(out, merges_file):
             placed = None
         if placed is not None:
             return max(0, len(placed) - 1), os.path.basename(merges_file) + ' (robots placed - 1)'
+    rows = read_csv(os.path.join(out, 'edge_stats.csv')) or []
+    if rows and 'event' in rows[0] and any(r.get('event') == 'merge' for r in rows):
+        return sum(1 for r in rows if r.get('event') == 'merge'), 'edge_stats.csv "merge" events'
     topic = os.path.join(out, 'merges_topic.txt')
     if os.path.isfile(topic):
         with open(topic) as f:
             lines = [l for l in f.read().splitlines() if l.strip() and not l.startswith('%')]
         return len(lines), 'merges topic (messages)'
-    return None, 'no merges figure: the edge wrote none (edge_metrics.json "merges", the merges file, the ~merges topic)'
+    return None, 'no merges figure: the edge wrote none (edge_metrics.json "merges", the merges file, edge_stats.csv, the ~merges topic)'
 
 
 def summarize(out, robots, merges_file=None):

@@ -2,8 +2,8 @@
 """bench.multi_eval on a fake multi-robot output folder (venv python, evo): robot 2 was played on
 robot 1's clock (its stamps moved by -5 s), so its ground truth is moved by the same offset before
 any ATE; per-robot online ATE in each robot's own frame, combined final ATE in the world frame
-with one alignment; the merge count from the edge's metrics, else the merges file, else the topic
-record; a robot without a final trajectory leaves the combined figure null with a note."""
+with one alignment; the merge count from the edge's metrics, else the merges file, else the edge's
+CSV "merge" events, else the topic record; a robot without a final trajectory leaves the combined figure null with a note."""
 import json
 import os
 import subprocess
@@ -84,6 +84,9 @@ class MultiEvalTest(unittest.TestCase):
             with open(os.path.join(out, 'merges_topic.txt'), 'w') as f:
                 f.write('%time,field.data\n1,robot2 merged into robot1\n')
             self.assertEqual(multi_eval.merges_count(out, None), (1, 'merges topic (messages)'))
+            with open(os.path.join(out, 'edge_stats.csv'), 'w') as f:
+                f.write('event,data_time,robot\nkeyframe,1.0,0\nmerge,2.0,1\nmerge,3.0,2\n')
+            self.assertEqual(multi_eval.merges_count(out, None)[0], 2)
             merges = os.path.join(out, 'edge_keyframes.txt.merges.txt')
             with open(merges, 'w') as f:
                 f.write('# robot T_world_robot\nrobot1 0 0 0 0 0 0 1\nrobot2 1 2 3 0 0 0 1\nrobot3 1 2 3 0 0 0 1\n')
