@@ -144,8 +144,11 @@ rosparam list > /dev/null 2>&1 || die "roscore on port $PORT did not come up: se
 PYTHONUNBUFFERED=1 rostopic echo -p /edge_slam/edge/merges > "$OUT/merges_topic.txt" 2> /dev/null &
 echo_pid=$!
 
+# Bags start paused and are resumed together once every mobile and the edge are up (an event,
+# not the players' fixed delay); tum_player has no pause: folders start after its delay.
+PAUSED=false; [[ "$MULTI_SOURCE" == folder ]] || PAUSED=true
 say "multi: $N mobiles + one edge (real time; logs in $OUT/launch.log)"
-roslaunch launch/edge_slam.launch robots:="$N" clock_robot:="$clock_robot" "${LAUNCH_ROBOT_ARGS[@]}" \
+roslaunch launch/edge_slam.launch robots:="$N" clock_robot:="$clock_robot" start_paused:=$PAUSED "${LAUNCH_ROBOT_ARGS[@]}" \
   image_queue_size:="${MULTI_IMAGE_QUEUE:-1000}" slam_config:="$(realpath "${SLAM_CONFIG:-config/slam.yaml}")" \
   camera_config:="$CAMERA" vocabulary:="$VOCABULARY" out:="$OUT" exit_with_bag:=false ${MULTI_LAUNCH_ARGS:-} \
   > "$OUT/launch.log" 2>&1 &
@@ -164,6 +167,11 @@ for _ in $(seq 240); do
   sleep 0.5
 done
 [[ $(players_running) == "$N" ]] || die "not every player (rosbag play / tum_player) started: see $OUT/launch.log"
+if [[ $PAUSED == true ]]; then
+  ROBOT_NAMES=(); for k in $(seq "$N"); do ROBOT_NAMES+=("robot$k"); done
+  PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m bench.ros_util release-players \
+    --robots "${ROBOT_NAMES[@]}" --timeout 180 || die "the players could not be started: see $OUT/launch.log"
+fi
 while [[ $(players_running) != 0 ]]; do
   kill -0 $launch_pid 2>/dev/null || die "the launch ended early: see $OUT/launch.log"
   [[ -z "$(player_failed)" ]] || die "a player failed: $(player_failed) (see $OUT/launch.log)"
