@@ -144,9 +144,9 @@ rosparam list > /dev/null 2>&1 || die "roscore on port $PORT did not come up: se
 PYTHONUNBUFFERED=1 rostopic echo -p /edge_slam/edge/merges > "$OUT/merges_topic.txt" 2> /dev/null &
 echo_pid=$!
 
-# Bags start paused and are resumed together once every mobile and the edge are up (an event,
-# not the players' fixed delay); tum_player has no pause: folders start after its delay.
-PAUSED=false; [[ "$MULTI_SOURCE" == folder ]] || PAUSED=true
+# The players start paused and are resumed together once every mobile and the edge are up (an
+# event, not the players' fixed delay; rosbag play and tum_player both offer ~pause_playback).
+PAUSED=true
 say "multi: $N mobiles + one edge (real time; logs in $OUT/launch.log)"
 roslaunch launch/edge_slam.launch robots:="$N" clock_robot:="$clock_robot" start_paused:=$PAUSED "${LAUNCH_ROBOT_ARGS[@]}" \
   image_queue_size:="${MULTI_IMAGE_QUEUE:-1000}" slam_config:="$(realpath "${SLAM_CONFIG:-config/slam.yaml}")" \
