@@ -4,7 +4,8 @@
 #   make demo  [HEADLESS=1]          setup, then run the main demo on the embedded synthetic sequence
 #   make test                        setup, then every unit + integration test; ends "N passed, N failed"
 #   make test-split                  only the split acceptance rostest (test/rostest/split_pipeline.test; also in make test)
-#   make eval  DATASET=<TUM folder> MODE=monolithic|split OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
+#   make eval  DATASET=<TUM folder> MODE=monolithic|split|multi OUT=<dir> [EDGE_SLAM_ARGS="--camera X --vocabulary Y"]
+#              (multi: several mobiles on one edge, scripts/eval_multi.sh; ROBOTS=2, ROBOT_DATASETS=... from the environment)
 #   make bench [DATASET=<TUM folder or bag> ...] [OUT=<dir>]   benchmark suite -> OUT/report.md, bench.json
 #   make fuzz  [FUZZ_SECONDS=60]     libFuzzer targets (clang, ASan+UBSan), each run FUZZ_SECONDS
 #   make test-asan                   ASan+UBSan build: every unit test + one monolithic run

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the SLAM system on a TUM-format folder and adds the ATE to <OUT>/metrics.json.
-# Called by `make eval DATASET=<folder> MODE=monolithic|split OUT=<dir>`; builds nothing.
+# Called by `make eval DATASET=<folder> MODE=monolithic|split|multi OUT=<dir>`; builds nothing.
+# MODE=multi: several mobiles on one edge, see scripts/eval_multi.sh (ROBOTS, ROBOT_DATASETS, ...).
 #   runner: $EDGE_SLAM_RUN, else .ws/devel/lib/edge_slam_common/edge_slam_run
 #   ATE:    bench.ate (evo's API in .venv: `evo_ape tum <gt> <traj> -a`), final and online alike
 # Extra runner options can be passed in EDGE_SLAM_ARGS (e.g. "--camera config/camera_tum1.yaml").
@@ -16,8 +17,8 @@ DATASET="${DATASET:-bags/synthetic_room}"
 MODE="${MODE:-monolithic}"
 OUT="${OUT:-results/$(basename "$DATASET")-$MODE}"
 
-if [[ "$MODE" != "monolithic" && "$MODE" != "split" ]]; then
-  echo "eval: unknown MODE '$MODE' (monolithic|split)" >&2
+if [[ "$MODE" != "monolithic" && "$MODE" != "split" && "$MODE" != "multi" ]]; then
+  echo "eval: unknown MODE '$MODE' (monolithic|split|multi)" >&2
   exit 1
 fi
 if [[ ! -d "$DATASET" ]]; then
@@ -57,7 +58,7 @@ if [[ "${EDGE_SLAM_ARGS:-}" != *--vocabulary* ]]; then
   fi
 fi
 
-if [[ "$MODE" == "split" ]]; then
+if [[ "$MODE" == "split" || "$MODE" == "multi" ]]; then
   # The same camera and vocabulary choice as the runner's: --camera/--vocabulary in EDGE_SLAM_ARGS,
   # else <dataset>/camera.yaml (fr1 folders: config/camera_tum1.yaml) and the default vocabulary.
   arg_of() { sed -nE "s/.*--$1[ =]([^ ]+).*/\1/p" <<< "${EDGE_SLAM_ARGS:-}"; }
@@ -68,6 +69,9 @@ if [[ "$MODE" == "split" ]]; then
   fi
   VOCABULARY="${VOCABULARY:-${VOCAB:-bags/vocabulary_synthetic.bin}}"
   [[ "$VOCABULARY" = /* ]] || VOCABULARY="$PWD/$VOCABULARY"
+  if [[ "$MODE" == "multi" ]]; then   # its own figures and metrics.json (bench.multi_eval)
+    DATASET="$DATASET" OUT="$OUT" CAMERA="$CAMERA" VOCABULARY="$VOCABULARY" exec bash scripts/eval_multi.sh
+  fi
   DATASET="$DATASET" OUT="$OUT" CAMERA="$CAMERA" VOCABULARY="$VOCABULARY" bash scripts/eval_split.sh
 else
   RUN="${EDGE_SLAM_RUN:-.ws/devel/lib/edge_slam_common/edge_slam_run}"

@@ -66,16 +66,82 @@ def wait_until_steady(read_key, quiet_s, timeout, step=0.5):
     return False
 
 
+def players_waiting_for(state, robots, edge_service="/edge_slam/edge/status"):
+    """What a multi-robot run still waits for before its paused players may start (master
+    getSystemState() triple, robot names): each robot's mobile subscribed to its colour and depth
+    topics (the mobile subscribes once its vocabulary is loaded), each player's pause service, the
+    edge's status service. [] when everything is there."""
+    pubs, subs, srvs = state
+    subscribed = {topic for topic, nodes in subs if nodes}
+    services = {name for name, _ in srvs}
+    missing = [] if edge_service in services else [edge_service]
+    for r in robots:
+        for topic in (f"/{r}/camera/rgb/image_color", f"/{r}/camera/depth/image"):
+            if topic not in subscribed:
+                missing.append(f"a subscriber of {topic}")
+        if f"/{r}/player/pause_playback" not in services:
+            missing.append(f"/{r}/player/pause_playback")
+    return missing
+
+
+def release_players(robots, timeout):
+    """Waits until every robot's mobile and player and the edge are up, then resumes every paused
+    player (rosbag play -\-pause) at once: all robots start together, on an event, not after a
+    fixed delay. True when released."""
+    import rosgraph
+    import rospy
+    from std_srvs.srv import SetBool
+    master = rosgraph.Master("/release_players")
+    deadline = time.monotonic() + timeout
+    missing = ["the master"]
+    while time.monotonic() < deadline:
+        try:
+            missing = players_waiting_for(master.getSystemState(), robots)
+        except (OSError, rosgraph.MasterException):
+            missing = ["the master"]
+        if not missing:
+            break
+        time.sleep(0.2)
+    if missing:
+        raise RuntimeError(f"still waiting after {timeout:.0f} s for: {', '.join(missing)}")
+    # Persistent connections, opened by a first call that changes nothing (pause a paused player):
+    # the resuming calls then follow each other within milliseconds.
+    proxies = [rospy.ServiceProxy(f"/{r}/player/pause_playback", SetBool, persistent=True) for r in robots]
+    for p in proxies:
+        p.wait_for_service(timeout=5.0)
+        p(True)
+    started = time.monotonic()
+    for p in proxies:
+        p(False)
+    spread = time.monotonic() - started
+    for p in proxies:
+        p.close()
+    return spread
+
+
 def main():
-    """Command line for the shell scripts (scripts/eval_split.sh)."""
+    """Command line for the shell scripts (scripts/eval_split.sh, scripts/eval_multi.sh)."""
     import argparse
     import sys
     ap = argparse.ArgumentParser(prog="python3 -m bench.ros_util", description=__doc__)
-    ap.add_argument("command", choices=["edge-settled"],
-                    help="edge-settled: wait until the edge's status stops changing (quiet for --quiet s)")
+    ap.add_argument("command", choices=["edge-settled", "release-players"],
+                    help="edge-settled: wait until the edge's status stops changing (quiet for --quiet s); "
+                         "release-players: wait until the mobiles of --robots, their paused players and the edge "
+                         "are up, then resume every player at once")
     ap.add_argument("--quiet", type=float, default=4.0)
     ap.add_argument("--timeout", type=float, default=120.0)
+    ap.add_argument("--robots", nargs="+", default=[], help="release-players: the robots' names (robot1 robot2 ...)")
     a = ap.parse_args()
+    if a.command == "release-players":
+        if not a.robots:
+            ap.error("release-players needs --robots")
+        try:
+            spread = release_players(a.robots, a.timeout)
+        except Exception as e:  # still waiting, or a service call failed
+            print(f"bench.ros_util: release-players: {e}", file=sys.stderr)
+            sys.exit(1)
+        print(f"bench.ros_util: {len(a.robots)} players resumed within {spread * 1000:.0f} ms", file=sys.stderr)
+        sys.exit(0)
     ok = wait_until_steady(lambda: edge_settled_key(rosservice_call("/edge_slam/edge/status")), a.quiet, a.timeout)
     if not ok:
         print(f"bench.ros_util: the edge did not settle within {a.timeout:.0f} s", file=sys.stderr)

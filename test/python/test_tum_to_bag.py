@@ -151,6 +151,20 @@ class TumToBagTest(unittest.TestCase):
         self.assertAlmostEqual(info.K[0], 517.306408)
         self.assertEqual(info.distortion_model, 'plumb_bob')
 
+    def test_time_offset_moves_every_stamp(self):
+        result = self.run_tool('--time-offset', '-0.5')
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with rosbag.Bag(self.out) as bag:
+            msgs = list(bag.read_messages())
+        colour = [(m, t) for topic, m, t in msgs if topic == '/camera/rgb/image_color']
+        self.assertEqual([(m.header.stamp.secs, m.header.stamp.nsecs) for m, _ in colour],
+                         [(0, 500000000), (0, 533333000), (0, 566667000)])
+        self.assertEqual([t for _, t in colour], [m.header.stamp for m, _ in colour])
+        tf = [m for topic, m, _ in msgs if topic == '/tf']
+        self.assertEqual((tf[0].transforms[0].header.stamp.secs, tf[0].transforms[0].header.stamp.nsecs), (0, 495000000))
+        os.remove(self.out)
+        self.assert_fails_cleanly(self.run_tool('--time-offset', '-2'), 'before time zero')
+
     def test_malformed_rgb_line(self):
         with open(os.path.join(self.folder, 'rgb.txt'), 'a') as f:
             f.write('1.1 rgb/a.png extra-word\n')
