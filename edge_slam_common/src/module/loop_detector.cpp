@@ -35,25 +35,28 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
                                   }),
                    candidates.end());
   last_raw_candidates_ = candidates.size();
+  // Consistency is counted along one robot's own KeyFrames: another robot's, processed in
+  // between, neither extend nor break its run of detections.
+  std::vector<Group>& groups = groups_[robot];
   if (candidates.empty()) {
-    groups_.clear();
+    groups.clear();
     return {};
   }
 
   std::vector<std::shared_ptr<KeyFrame>> consistent;
   std::vector<Group> current;
-  std::vector<bool> extended(groups_.size(), false);
+  std::vector<bool> extended(groups.size(), false);
   for (const auto& cand : candidates) {
     Group g;
     g.members.insert(cand->id());
     for (uint32_t id : cand->ordered_neighbours()) g.members.insert(id);
     bool enough = false, overlaps_any = false;
-    for (size_t k = 0; k < groups_.size(); ++k) {
+    for (size_t k = 0; k < groups.size(); ++k) {
       const bool overlap = std::any_of(g.members.begin(), g.members.end(),
-                                       [&](uint32_t id) { return groups_[k].members.count(id) > 0; });
+                                       [&](uint32_t id) { return groups[k].members.count(id) > 0; });
       if (!overlap) continue;
       overlaps_any = true;
-      const int c = groups_[k].consistency + 1;
+      const int c = groups[k].consistency + 1;
       if (!extended[k]) {
         current.push_back(Group{g.members, c});
         extended[k] = true;
@@ -65,7 +68,7 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
     }
     if (!overlaps_any) current.push_back(Group{g.members, 0});
   }
-  groups_ = std::move(current);
+  groups = std::move(current);
   return consistent;
 }
 

@@ -37,7 +37,7 @@ class LoopDetector {
     int consistency = 0;
   };
   LoopDetectorParams params_;
-  std::vector<Group> groups_;
+  std::map<int, std::vector<Group>> groups_;  // per robot (util/robot_ids.h)
   std::map<int, uint32_t> last_loop_kf_ids_;  // robot (util/robot_ids.h) -> its KeyFrame of the last loop
   double last_min_score_ = 0;
   size_t last_raw_candidates_ = 0;
