@@ -17,7 +17,7 @@ import rostest
 from edge_slam_msgs.msg import Frame, KeyFrame, MapUpdate, Stats
 from sensor_msgs.msg import Image
 
-from malformed_messages import MalformedMessages
+from malformed_messages import MalformedMessages, valid_keyframe
 from split_test_support import NS, SplitSystem
 
 TOTAL = 10000
@@ -75,6 +75,7 @@ class ValidationTest(unittest.TestCase):
         self.assertGreater(mobile_before.local_map_keyframes, 0)
 
         self.flood()
+        self.foreign_ids()
         edge_after, mobile_after = system.edge_status(), system.mobile_status()
         self.assertEqual(edge_map(edge_after), edge_map(edge_before), 'the Global-Map is unchanged')
         self.assertEqual(mobile_map(mobile_after), mobile_map(mobile_before), 'the Local-Map is unchanged')
@@ -130,6 +131,34 @@ class ValidationTest(unittest.TestCase):
         system.wait_until(stats_agree, 10, '~stats to report the same malformed counts')
         # ~stats is published after the last count: nothing was counted twice in the meantime.
         self.assertEqual(self.counted(), final, 'no message counted again after the flood')
+
+    def foreign_ids(self):
+        """Well-formed KeyFrames carrying ids that are not this (single, robot 0) mobile's
+        (edge_slam_common util/robot_ids.h): another robot's KeyFrame ids, ids past the last
+        robot's range, and robot 0 KeyFrame ids creating another robot's points. Each is refused
+        by the edge's session and counted (~stats keyframes_foreign_ids); the maps do not change
+        (checked by the caller)."""
+        system = self.system
+        pub = rospy.Publisher(NS + '/keyframes', KeyFrame, queue_size=1000)
+        system.wait_until(lambda: pub.get_num_connections() > 0, 20, 'the edge to subscribe to the test publisher')
+        system.wait_until(lambda: 'keyframes_foreign_ids' in self.seen.stats.get('edge', {}), 10, 'the edge ~stats')
+        before = self.seen.stats['edge']['keyframes_foreign_ids']
+        gen = MalformedMessages(seed=11)
+        sent = 0
+        for k in range(50):
+            for kf_id, point_id in (((1 << 24) + 10 * k, None),          # robot 1's KeyFrame id
+                                    ((15 << 24) + 10 * k, None),         # the last robot's
+                                    ((16 << 24) + 10 * k, None),         # past every robot's range
+                                    (5000000 + 10 * k, (1 << 27) + k)):  # robot 0's, creating robot 1's point
+                m = valid_keyframe(gen.rng, kf_id)
+                if point_id is not None:
+                    m.new_point_id = [point_id]
+                pub.publish(m)
+                sent += 1
+        system.wait_until(lambda: self.seen.stats['edge']['keyframes_foreign_ids'] - before >= sent, 30,
+                          'the %d KeyFrames with foreign ids to be counted' % sent)
+        self.assertEqual(self.seen.stats['edge']['keyframes_foreign_ids'] - before, sent)
+        print('foreign ids: %d KeyFrames refused and counted' % sent, file=sys.stderr)
 
     def bad_images(self):
         """Bad camera frames between two bag frames (stamps just after the last one, so the

@@ -128,14 +128,15 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
   }
   RobotState& rs = robots_[robot];
   ++rs.counters.received;
-  rs.counters.last_seq = std::max(rs.counters.last_seq, r.seq);
-  rs.receipts.mark(r.seq);  // whatever the verdict: a resend would get the same one
+  // Another robot's record (or a forged one): its seq is not this robot's to acknowledge.
   if (const std::string foreign = foreign_ids(r, robot); !foreign.empty()) {
     ++rs.counters.invalid;
     ++rs.counters.foreign_ids;
     if (error) *error = foreign;
     return KeyFrameVerdict::kInvalid;
   }
+  rs.counters.last_seq = std::max(rs.counters.last_seq, r.seq);
+  rs.receipts.mark(r.seq);  // whatever the verdict: a resend would get the same one
   if (r.reset) {
     reset_locked(robot);
     if (multi()) frames_.start_new_map(robot, r.id + 1);  // the mobile's ids go on after a reset
