@@ -19,7 +19,6 @@
 #           MULTI_SOURCE=folder plays the folders live instead (tum_player --time-offset: decodes
 #           as it goes, late on a loaded machine). The clock robot is the one whose data ends last.
 #   env: DATASET OUT CAMERA VOCABULARY (resolved by eval.sh); SLAM_CONFIG (config/slam.yaml);
-#        MERGES_FILE (the edge's per-robot T_world_robot file, default below);
 #        MULTI_LAUNCH_ARGS extra roslaunch arguments; EVAL_ROS_PORT (default 11392);
 #        EDGE_SLAM_WS another workspace to run (scripts/common.sh)
 set -euo pipefail
@@ -36,9 +35,6 @@ MULTI_SOURCE="${MULTI_SOURCE:-auto}"
 PORT="${EVAL_ROS_PORT:-11392}"
 mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
-# The edge's per-robot placements in the world (T_world_robot), next to its KeyFrames file:
-# the one place to change when the edge's name for it is settled.
-MERGES_FILE="${MERGES_FILE:-$OUT/edge_keyframes.txt.merges.txt}"
 [[ "$CAMERA" = /* ]] || CAMERA="$ROOT/$CAMERA"
 case "$MULTI_SOURCE" in auto|folder) ;; *) die "MULTI_SOURCE must be auto or folder (not '$MULTI_SOURCE')" ;; esac
 [[ "$MULTI_OVERLAP" =~ ^[0-9]+$ ]] || die "MULTI_OVERLAP must be a number of frames (not '$MULTI_OVERLAP')"
@@ -123,14 +119,13 @@ say "robot$clock_robot publishes /clock (its data ends last)"
 
 # ---- the run --------------------------------------------------------------------------------
 for k in $(seq 4); do rm -rf "${OUT:?}/robot$k"; done
-rm -f "$OUT"/{edge_stats.csv,edge_metrics.json,edge_keyframes.txt,metrics.json,merges_topic.txt} "$MERGES_FILE"
+rm -f "$OUT"/{edge_stats.csv,edge_metrics.json,edge_keyframes.txt,metrics.json}
 export ROS_MASTER_URI="http://localhost:$PORT"   # its own master: never disturbs another ROS session
 roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
 core_pid=$!
-launch_pid=""; echo_pid=""
+launch_pid=""
 stop_ros() {
   set +e
-  [[ -n "$echo_pid" ]] && kill -INT "$echo_pid" 2>/dev/null
   [[ -n "$launch_pid" ]] && kill -INT "$launch_pid" 2>/dev/null && wait "$launch_pid" 2>/dev/null
   kill "$core_pid" 2>/dev/null
   wait 2>/dev/null
@@ -140,9 +135,6 @@ trap stop_ros EXIT
 for _ in $(seq 100); do rosparam list > /dev/null 2>&1 && break; sleep 0.2; done
 rosparam list > /dev/null 2>&1 || die "roscore on port $PORT did not come up: see $OUT/roscore.log"
 
-# The edge's ~merges topic, whatever its type, one line per message (bench.multi_eval counts them).
-PYTHONUNBUFFERED=1 rostopic echo -p /edge_slam/edge/merges > "$OUT/merges_topic.txt" 2> /dev/null &
-echo_pid=$!
 
 # The players start paused and are resumed together once every mobile and the edge are up (an
 # event, not the players' fixed delay; rosbag play and tum_player both offer ~pause_playback).
@@ -180,9 +172,6 @@ done
 say "every robot's data has been played; waiting for the edge's Local-Mapping, Loop-Closing and merging to settle"
 PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m bench.ros_util edge-settled --timeout 180 \
   || say "the edge was still changing after 180 s; writing what it has"
-kill -INT "$echo_pid" 2>/dev/null; echo_pid=""
-# An empty record of a topic the edge never advertised says nothing: drop it.
-rostopic info /edge_slam/edge/merges > /dev/null 2>&1 || rm -f "$OUT/merges_topic.txt"
 kill -INT $launch_pid; wait $launch_pid 2>/dev/null || true
 launch_pid=""
 
@@ -202,5 +191,4 @@ for k in $(seq "$N"); do
 done
 
 [[ -x .venv/bin/python3 ]] || die "no .venv (evo): run 'make setup' first"
-PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" .venv/bin/python3 -m bench.multi_eval "$OUT" "${ROBOT_ARGS[@]}" \
-  --merges-file "$MERGES_FILE"
+PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" .venv/bin/python3 -m bench.multi_eval "$OUT" "${ROBOT_ARGS[@]}"

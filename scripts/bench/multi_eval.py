@@ -4,16 +4,13 @@ and the final ATE alone; the combined final ATE (every robot's final trajectory 
 frame, ONE alignment against all ground truths: bench.multi_ate); the number of map merges.
 
 python3 -m bench.multi_eval <OUT> --robot <name> <TUM folder> <time offset s> <source> [--robot ...]
-                            [--merges-file PATH] [--json]
+                            [--json]
 (venv python: evo). Reads OUT/edge_metrics.json, OUT/<name>/{mobile_metrics.json,
 trajectory_online.txt, trajectory.txt} (trajectory.txt: the final trajectory composed by
 compose_trajectory from the robot's anchors and the edge's KeyFrames, world frame). A robot played
 with a time offset (its stamps moved onto the clock robot's time) is compared with its ground truth
-moved by the same offset, written to OUT/<name>/groundtruth.txt. Merges, first found of: the edge's
-metrics ("merges": a count, or a list of merges), the merges file (one line per robot placed in
-the world, "<robot> <T_world_robot>"; merges = placed robots - 1), the "merge" events of
-OUT/edge_stats.csv, the recorded ~merges topic (OUT/merges_topic.txt, `rostopic echo -p`: one
-line per message after the header).
+moved by the same offset, written to OUT/<name>/groundtruth.txt. Merges: the edge's metrics
+("merges": the list of merges), else the "merge" events of OUT/edge_stats.csv.
 Writes OUT/metrics.json and prints one summary line per figure. A figure that cannot be computed
 (no final trajectory, too few poses) is null in metrics.json, with its reason under "notes".
 """
@@ -52,37 +49,20 @@ def load_json(path):
         return None
 
 
-def merges_count(out, merges_file):
-    """(number of merges, where it came from), (None, reason) when nothing tells."""
+def merges_count(out):
+    """(number of merges, where it came from), (None, reason) when the edge wrote none. The edge's
+    metrics.json lists every merge ("merges": [{keyframe, loop_keyframe, robot, loop_robot,
+    matches, T_into_from}], split/edge_system.cpp); its event CSV has one "merge" row each."""
     edge = load_json(os.path.join(out, 'edge_metrics.json')) or {}
-    m = edge.get('merges')
-    if isinstance(m, bool):
-        m = None
-    if isinstance(m, (int, float)):
-        return int(m), 'edge_metrics.json merges'
-    if isinstance(m, list):
-        return len(m), 'edge_metrics.json merges (list)'
-    if isinstance(m, dict) and isinstance(m.get('count'), (int, float)):
-        return int(m['count']), 'edge_metrics.json merges.count'
-    if merges_file and os.path.isfile(merges_file):
-        try:
-            placed = {words[0] for _, _, words in data_lines(merges_file)}
-        except InputError:
-            placed = None
-        if placed is not None:
-            return max(0, len(placed) - 1), os.path.basename(merges_file) + ' (robots placed - 1)'
+    if isinstance(edge.get('merges'), list):
+        return len(edge['merges']), 'edge_metrics.json merges'
     rows = read_csv(os.path.join(out, 'edge_stats.csv')) or []
-    if rows and 'event' in rows[0] and any(r.get('event') == 'merge' for r in rows):
+    if rows and 'event' in rows[0]:
         return sum(1 for r in rows if r.get('event') == 'merge'), 'edge_stats.csv "merge" events'
-    topic = os.path.join(out, 'merges_topic.txt')
-    if os.path.isfile(topic):
-        with open(topic) as f:
-            lines = [l for l in f.read().splitlines() if l.strip() and not l.startswith('%')]
-        return len(lines), 'merges topic (messages)'
-    return None, 'no merges figure: the edge wrote none (edge_metrics.json "merges", the merges file, edge_stats.csv, the ~merges topic)'
+    return None, 'no merges figure: neither edge_metrics.json "merges" nor edge_stats.csv'
 
 
-def summarize(out, robots, merges_file=None):
+def summarize(out, robots):
     """robots: [(name, TUM folder, offset s, source)]. Returns (metrics dict, summary lines)."""
     m = {'mode': 'multi', 'robots': {}, 'notes': []}
     edge = load_json(os.path.join(out, 'edge_metrics.json'))
@@ -141,7 +121,7 @@ def summarize(out, robots, merges_file=None):
     shares = ', '.join('%s %s' % (n, cm(v['ate_rmse_m'])) for n, v in m.get('ate_combined', {}).get('robots', {}).items())
     lines.append('multi: combined final ATE (all robots in the world frame, one alignment) %s over %s poses%s'
                  % (cm(m['ate_rmse_m']), m.get('ate_pairs'), ' (%s)' % shares if shares else ''))
-    m['merges'], m['merges_source'] = merges_count(out, merges_file)
+    m['merges'], m['merges_source'] = merges_count(out)
     lines.append('multi: map merges %s (%s)' % (m['merges'], m['merges_source']))
     if edge:
         k = edge.get('keyframes', {}) if isinstance(edge.get('keyframes'), dict) else {}
@@ -166,7 +146,6 @@ def main():
     ap.add_argument('out')
     ap.add_argument('--robot', nargs=4, action='append', required=True, metavar=('NAME', 'FOLDER', 'OFFSET', 'SOURCE'),
                     help='a robot: its name (output subfolder), TUM folder, time offset (s) and source (bag/folder)')
-    ap.add_argument('--merges-file', help="the edge's per-robot placements (T_world_robot)")
     ap.add_argument('--json', action='store_true', help='print metrics.json instead of the summary lines')
     a = ap.parse_args()
     try:
@@ -177,7 +156,7 @@ def main():
             if not os.path.isfile(os.path.join(folder, 'groundtruth.txt')):
                 raise InputError('%s: no groundtruth.txt in %s' % (name, folder))
             robots.append((name, folder, float(offset), source))
-        m, lines = summarize(a.out, robots, a.merges_file)
+        m, lines = summarize(a.out, robots)
     except (InputError, OSError, ValueError) as e:
         sys.exit('bench.multi_eval: %s' % e)
     if a.json:

@@ -61,7 +61,9 @@ class MultiEvalTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             out, robots = fake_run(d)
             with open(os.path.join(out, 'edge_metrics.json'), 'w') as f:
-                json.dump({'merges': 1, 'loops_closed': 0, 'keyframes': {'inserted': 24}}, f)
+                json.dump({'merges': [{'keyframe': 16777220, 'loop_keyframe': 24, 'robot': 1, 'loop_robot': 0, 'matches': 500,
+                                       'T_into_from': [0, 0, 0, 0, 0, 0, 1]}],
+                           'loops_closed': 0, 'keyframes': {'inserted': 24}}, f)
             m, lines = multi_eval.summarize(out, robots)
             self.assertLess(m['robots']['robot1']['ate_online_rmse_m'], 1e-5)
             self.assertLess(m['robots']['robot2']['ate_online_rmse_m'], 1e-5, 'ground truth moved by the offset')
@@ -77,20 +79,17 @@ class MultiEvalTest(unittest.TestCase):
                 first = [l for l in f if not l.startswith('#')][0]
             self.assertAlmostEqual(float(first.split()[0]), T[0], places=5)
 
-    def test_merges_from_the_file_then_the_topic(self):
+    def test_merges_from_the_edge_metrics_then_its_events(self):
         with tempfile.TemporaryDirectory() as d:
             out, robots = fake_run(d)
-            self.assertIsNone(multi_eval.merges_count(out, None)[0])
-            with open(os.path.join(out, 'merges_topic.txt'), 'w') as f:
-                f.write('%time,field.data\n1,robot2 merged into robot1\n')
-            self.assertEqual(multi_eval.merges_count(out, None), (1, 'merges topic (messages)'))
+            self.assertIsNone(multi_eval.merges_count(out)[0])
             with open(os.path.join(out, 'edge_stats.csv'), 'w') as f:
-                f.write('event,data_time,robot\nkeyframe,1.0,0\nmerge,2.0,1\nmerge,3.0,2\n')
-            self.assertEqual(multi_eval.merges_count(out, None)[0], 2)
-            merges = os.path.join(out, 'edge_keyframes.txt.merges.txt')
-            with open(merges, 'w') as f:
-                f.write('# robot T_world_robot\nrobot1 0 0 0 0 0 0 1\nrobot2 1 2 3 0 0 0 1\nrobot3 1 2 3 0 0 0 1\n')
-            self.assertEqual(multi_eval.merges_count(out, merges)[0], 2)
+                f.write('event,data_time,detail\nkeyframe,1.0,\nmerge,2.0,a\nmerge,3.0,b\n')
+            self.assertEqual(multi_eval.merges_count(out), (2, 'edge_stats.csv "merge" events'))
+            with open(os.path.join(out, 'edge_metrics.json'), 'w') as f:
+                json.dump({'merges': [{'keyframe': 16777220, 'loop_keyframe': 24, 'robot': 1, 'loop_robot': 0,
+                                       'matches': 639, 'T_into_from': [0, 0, 0, 0, 0, 0, 1]}]}, f)
+            self.assertEqual(multi_eval.merges_count(out), (1, 'edge_metrics.json merges'))
 
     def test_a_robot_without_final_trajectory(self):
         with tempfile.TemporaryDirectory() as d:
