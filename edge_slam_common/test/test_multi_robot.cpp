@@ -133,6 +133,24 @@ std::vector<KeyFrameRecord> robot_keyframes(int robot, int first, int last) {
   return sent;
 }
 
+// A mobile's condition 2 with an edge that maps this robot's KeyFrames at once but, when
+// `busy_elsewhere`, says its Local-Mapping holds another robot's KeyFrame.
+int keyframes_made_with(bool busy_elsewhere) {
+  const RenderedSequence& seq = sequence();
+  MobileSession session = make_session();
+  for (int i = 0; i < kFrames; ++i) {
+    EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+    session.on_edge_progress(session.keyframes_sent(), busy_elsewhere);
+  }
+  return static_cast<int>(session.keyframes_sent());
+}
+
+TEST(MultiRobotPacing, AMapperBusyWithAnotherRobotHoldsKeyFramesBackAsIfBusyWithOurs) {
+  const int idle = keyframes_made_with(false), busy = keyframes_made_with(true);
+  EXPECT_LT(busy, idle) << "condition 2 reads the shared Local-Mapping";
+  EXPECT_LE(busy, 1 + kFrames / 20 + 1) << "a KeyFrame every 20 frames (or on weak tracking), as with a busy mapper";
+}
+
 TEST(MultiRobotEdge, ARecordWithAnotherRobotsIdsIsRefusedAndCounted) {
   const RenderedSequence& seq = sequence();
   const std::vector<KeyFrameRecord> robot1 = robot_keyframes(1, 0, 12);

@@ -455,8 +455,12 @@ EdgeCounters EdgeSession::counters(int robot) const {
   {
     std::lock_guard<std::mutex> map_lock(mapping_seq_mutex_);
     uint64_t oldest = UINT64_MAX;
-    for (const auto& [id, seq] : in_mapping_)
-      if (robot_of_keyframe(id) == robot) oldest = std::min(oldest, seq);
+    for (const auto& [id, seq] : in_mapping_) {
+      if (robot_of_keyframe(id) == robot)
+        oldest = std::min(oldest, seq);
+      else
+        c.mapper_busy_elsewhere = true;
+    }
     c.mapped_seq = oldest == UINT64_MAX ? c.received_seq : std::min(c.received_seq, oldest - 1);
   }
   return c;

@@ -116,7 +116,7 @@ TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, 
   last_stamp_ = stamp;
   newest_created_.reset();
   // Condition 2: the edge's Local-Mapping is idle once it is done with every KeyFrame sent.
-  tracking_.set_mapper_idle(edge_mapped_seq_.load() + 1 >= next_keyframe_seq_);
+  tracking_.set_mapper_idle(edge_mapped_seq_.load() + 1 >= next_keyframe_seq_ && !edge_busy_elsewhere_.load());
   TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
   if (r.new_keyframe && r.diag.reference_kf_id != kNoId) {
     MobileKeyFrameStats& k = keyframe_stats_;
@@ -272,7 +272,8 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-void MobileSession::on_edge_progress(uint64_t mapped_seq) {
+void MobileSession::on_edge_progress(uint64_t mapped_seq, bool mapper_busy_elsewhere) {
+  edge_busy_elsewhere_ = mapper_busy_elsewhere;
   uint64_t seen = edge_mapped_seq_.load();
   while (mapped_seq > seen && !edge_mapped_seq_.compare_exchange_weak(seen, mapped_seq)) {
   }

@@ -103,12 +103,16 @@ KeyFrameAck EdgeDurability::ack(int robot) {
   a.persistent = persistent();
   a.durable_seq = durable_seq_;
   a.mapped_seq = c.mapped_seq;
+  a.mapper_busy_elsewhere = c.mapper_busy_elsewhere;
   last_acked_mapped_seq_[robot] = a.mapped_seq;
+  last_acked_busy_elsewhere_[robot] = a.mapper_busy_elsewhere;
   return a;
 }
 
 bool EdgeDurability::mapping_progressed(int robot) const {
-  return valid_robot_index(robot) && session_.mapped_seq(robot) != last_acked_mapped_seq_[robot];
+  if (!valid_robot_index(robot)) return false;
+  const EdgeCounters c = session_.counters(robot);
+  return c.mapped_seq != last_acked_mapped_seq_[robot] || c.mapper_busy_elsewhere != last_acked_busy_elsewhere_[robot];
 }
 
 }  // namespace edge_slam

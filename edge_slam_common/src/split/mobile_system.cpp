@@ -91,7 +91,7 @@ void MobileSystem::keyframe_sent(const KeyFrameRecord& record, size_t bytes) {
 }
 
 void MobileSystem::on_ack(const KeyFrameAck& ack) {
-  if (const auto s = session()) s->on_edge_progress(ack.mapped_seq);
+  if (const auto s = session()) s->on_edge_progress(ack.mapped_seq, ack.mapper_busy_elsewhere);
   if (sender_.on_ack(ack, clock_()))
     log_warn("the edge restarted (durable up to KeyFrame seq " + std::to_string(ack.durable_seq) +
              "): resending what came after");

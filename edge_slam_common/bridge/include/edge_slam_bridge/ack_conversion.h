@@ -13,6 +13,7 @@ inline edge_slam_msgs::KeyFrameAck to_message(const KeyFrameAck& a) {
   m.durable_seq = a.durable_seq;
   m.persistent = a.persistent;
   m.mapped_seq = a.mapped_seq;
+  m.mapper_busy_elsewhere = a.mapper_busy_elsewhere;
   return m;
 }
 
@@ -23,6 +24,7 @@ inline KeyFrameAck from_message(const edge_slam_msgs::KeyFrameAck& m) {
   a.durable_seq = m.durable_seq;
   a.persistent = m.persistent;
   a.mapped_seq = m.mapped_seq;
+  a.mapper_busy_elsewhere = m.mapper_busy_elsewhere;
   return a;
 }
 

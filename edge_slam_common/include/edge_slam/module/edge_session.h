@@ -87,6 +87,7 @@ struct EdgeCounters {
   uint64_t last_seq = 0;  // highest KeyFrame seq received (acknowledged in updates)
   uint64_t received_seq = 0;  // every seq up to this one received (delivery acknowledgement)
   uint64_t mapped_seq = 0;    // every seq up to this one decided and, if inserted, through Local-Mapping
+  bool mapper_busy_elsewhere = false;  // Local-Mapping holds another robot's KeyFrame (several mobiles)
   uint64_t pending_points_adopted = 0;  // points of refused KeyFrames taken in by a later one
   uint64_t weak_tracking_inserted = 0;  // inserted while Local-Mapping was busy: condition 2's weak clause
 };

@@ -25,6 +25,7 @@ struct KeyFrameAck {
   uint64_t durable_seq = 0;   // every seq <= this is in the edge's last checkpoint
   bool persistent = false;    // false: the edge keeps no checkpoint, durable_seq is meaningless
   uint64_t mapped_seq = 0;    // every seq <= this is through the edge's decision and Local-Mapping
+  bool mapper_busy_elsewhere = false;  // several mobiles: Local-Mapping holds another robot's KeyFrame
 };
 
 struct DeliveryParams {

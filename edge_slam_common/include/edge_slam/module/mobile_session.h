@@ -105,8 +105,10 @@ class MobileSession {
   // Once per deferred update, after the track() that applied or finally refused it: its seq and outcome.
   std::optional<std::pair<uint64_t, UpdateOutcome>> take_deferred_outcome();
   void count_invalid_update();
-  // The edge's acknowledged Local-Mapping progress (KeyFrameAck.mapped_seq), any thread.
-  void on_edge_progress(uint64_t mapped_seq);
+  // The edge's acknowledged Local-Mapping progress (KeyFrameAck.mapped_seq), any thread; and
+  // whether its Local-Mapping holds another robot's KeyFrame (one edge, several mobiles: then
+  // it is not idle for this robot's condition 2 either).
+  void on_edge_progress(uint64_t mapped_seq, bool mapper_busy_elsewhere = false);
   // A processed frame for relocalization assistance, when lost and the period has elapsed.
   std::optional<FrameRecord> take_relocalization_frame(double now);
   // Paper 4.7.4: queue the newest KeyFrame again with its reset flag (the edge resets on it),
@@ -164,6 +166,7 @@ class MobileSession {
   bool keyframe_since_update_ = false;
   uint64_t next_keyframe_seq_ = 1;
   std::atomic<uint64_t> edge_mapped_seq_{0};
+  std::atomic<bool> edge_busy_elsewhere_{false};
   uint64_t next_frame_seq_ = 1;
   double last_relocalization_frame_time_ = -1e300;
   std::optional<KeyFrameRecord> newest_keyframe_;

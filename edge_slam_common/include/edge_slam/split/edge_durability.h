@@ -68,6 +68,7 @@ class EdgeDurability {
   BootIds boot_ids_;
   std::atomic<uint64_t> boot_id_{0}, durable_seq_{0}, checkpoints_{0};
   std::array<std::atomic<uint64_t>, kMaxRobots> last_acked_mapped_seq_{};
+  std::array<std::atomic<bool>, kMaxRobots> last_acked_busy_elsewhere_{};
   std::atomic<bool> checkpointing_{false};
   LogThrottle failure_log_{30.0};
 };
