@@ -12,6 +12,9 @@ Runs, on each dataset and in one go so that ratios compare like with like:
   speed            issue 15's speed figures (speed.py): tracking-only CPU per stage, ORB vs
                    cv::ORB, the edge's KeyFrames/s on a recorded stream (local BA and split p99
                    are read from the monolithic and split runs)
+  scaling          issue 16 (scaling.py, once, not per dataset): one edge with 1, 2 and 3
+                   mobiles on the synthetic room at half speed: edge CPU and RSS, each mobile's
+                   update and KeyFrame latencies (robot 2's data: `make dataset-multi`)
 and once the wire micro-benchmark (wire_benchmark: KeyFrame / update size, (de)serialization,
 Local-Map rebuild). Each run gets a /proc CPU+RSS sampler (20 Hz) on the mobile and edge
 processes and, in split mode, a topic-size recorder. Then report.py (venv: evo, matplotlib)
@@ -34,7 +37,7 @@ import time
 
 from edge_slam_common.tum import list_seconds
 
-from . import speed
+from . import scaling, speed
 from .fast_turn import fast_turn
 from .ros_util import wait_for_service
 
@@ -44,7 +47,7 @@ SCRIPTS = os.path.dirname(HERE)
 
 DEFAULT_DATASETS = ["bags/synthetic_room", "../shared/datasets/tum_fr1_rpy"]
 VARIANTS = ["monolithic", "split", "split_controller", "monolithic_blank", "split_blank", "robustness", "bandwidth",
-            "long", "speed"]
+            "long", "speed", "scaling"]
 ROBUST_RUNS = 5
 # The long run: the embedded sequence's closed path driven 20 times at 15 fps (10 minutes),
 # made by loop_sequence.py in OUT/data (text files and symlinks, no rendering); the split plays
@@ -259,7 +262,7 @@ def save_manifest(out_dir, manifest, previous):
             runs.update({r["variant"]: r for r in entry["runs"]})
             old.update({k: v for k, v in entry.items() if k != "runs"})
             old["runs"] = list(runs.values())
-        for key in ("long_run", "long_run_skipped"):
+        for key in ("long_run", "long_run_skipped", "scaling", "scaling_skipped"):
             if key in manifest:
                 merged[key] = manifest[key]
         if "speed" in manifest:  # a dataset measured again replaces its speed entry
@@ -345,12 +348,13 @@ def run():
     if args.robust_runs < 1:
         sys.exit("bench: --robust-runs must be >= 1")
     progress = Progress(len(datasets) * (len([v for v in variants if v not in ("bandwidth", "long", "robustness",
-                                                                              "speed")])
+                                                                              "speed", "scaling")])
                                          + (2 * args.robust_runs if "robustness" in variants else 0)
                                          + (speed.phases() if "speed" in variants else 0)
                                          + (1 if any("blank" in v for v in variants) else 0))
                         + (len(BANDWIDTH_LEVELS) * with_bag if "bandwidth" in variants else 0)
                         + (1 + len(args.long_modes.split(",")) if "long" in variants else 0)
+                        + (1 if "scaling" in variants else 0)
                         + (0 if args.no_wire else 1) + 1)
     t_start = time.time()
     for dataset in datasets:
@@ -375,7 +379,7 @@ def run():
                 entry["blank"] = made.stderr.strip()
             progress.done(entry["blank"])
         for variant in variants:
-            if variant == "long":
+            if variant in ("long", "scaling"):
                 continue  # once, after the datasets
             if variant == "robustness":
                 entry["robust_runs"] = args.robust_runs
@@ -414,6 +418,17 @@ def run():
         manifest["long_run"] = entry
     elif "long" in variants:
         manifest["long_run_skipped"] = f"{long_dir} could not be made from {LONG_SOURCE}"
+    if "scaling" in variants:
+        progress.start("scaling: 1, 2, 3 mobiles on one edge")
+        scaling_dir = os.path.join(out_dir, "scaling")
+        os.makedirs(scaling_dir, exist_ok=True)
+        try:
+            figures = scaling.run_scaling(scaling_dir)
+            manifest["scaling"] = scaling_dir
+            progress.done(f"{len(figures)} runs")
+        except SystemExit as e:
+            manifest["scaling_skipped"] = str(e)
+            progress.done(str(e))
     if not args.no_wire:
         synthetic = os.path.join(ROOT, "bags/synthetic_room")
         run_wire_benchmark(progress, out_dir, synthetic if os.path.isdir(synthetic) else datasets[0])

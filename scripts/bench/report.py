@@ -22,7 +22,7 @@ import numpy as np  # noqa: E402
 
 from . import ate as ate_tool  # noqa: E402
 from . import pipeline_stats  # noqa: E402
-from . import speed  # noqa: E402
+from . import scaling, speed  # noqa: E402
 from .bench_data import cpu_percent, net_rows, proc_series, read_json  # noqa: E402
 from edge_slam_common.tum import pose_seconds  # noqa: E402
 
@@ -749,6 +749,8 @@ def not_measured(rep, manifest):
         gaps.append("bandwidth limits (paper Table 5: ip netns + veth + tc at 51/67, 20/20, 15/10 Mbps + 5 ms)")
     if not manifest.get("long_run"):
         gaps.append("long run (mobile RSS slope after warm-up on the long synthetic variant)")
+    if not manifest.get("scaling"):
+        gaps.append("scaling (one edge with 1, 2, 3 mobiles; " + manifest.get("scaling_skipped", "not asked for") + ")")
     rep.line("## Not measured in this report")
     rep.line()
     rep.md += [f"- {g}" for g in gaps] or ["Nothing: every section above was measured."]
@@ -772,6 +774,7 @@ def main():
     section_wire(wire, rep, tail)
     section_long_run(manifest, out, rep, tail, bench)
     bench["speed"] = speed.speed_section(rep, tail, out, manifest)
+    bench["scaling"] = scaling.scaling_section(tail, out, manifest)
     header(rep, manifest)
     rep.md += body.md + tail.md
     not_measured(rep, manifest)

@@ -2,8 +2,8 @@
 """bench.multi_eval on a fake multi-robot output folder (venv python, evo): robot 2 was played on
 robot 1's clock (its stamps moved by -5 s), so its ground truth is moved by the same offset before
 any ATE; per-robot online ATE in each robot's own frame, combined final ATE in the world frame
-with one alignment; the merge count from the edge's metrics, else the merges file, else the edge's
-CSV "merge" events, else the topic record; a robot without a final trajectory leaves the combined figure null with a note."""
+with one alignment; the merge count from the edge's metrics, else the edge's CSV "merge" events;
+a robot without a final trajectory leaves the combined figure null with a note."""
 import json
 import os
 import subprocess
