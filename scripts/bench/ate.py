@@ -102,7 +102,7 @@ def main():
     ap.add_argument("--update-stamps-from", metavar="CSV",
                     help="a split run's mobile_stats.csv: also the largest jump at an applied update")
     a = ap.parse_args()
-    try:
+    def compute():
         res = ate_stats(a.groundtruth, a.trajectory, a.max_diff)
         if a.update_stamps_from:
             from .pipeline_stats import applied_update_stamps
@@ -110,11 +110,20 @@ def main():
             jump, per_update = largest_update_jump(a.groundtruth, a.trajectory, stamps, a.max_diff)
             res["update_jump_max_m"] = jump
             res["update_jumps"] = [[round(t, 6), j] for t, j in per_update]
+        return res
+    print_result("bench.ate", compute, a.json)
+
+
+def print_result(tool, compute, as_json):
+    """A command-line ATE tool's ending: the figures (JSON or one `key: value` a line), or its
+    error as the exit message."""
+    try:
+        res = compute()
     except (OSError, ValueError) as e:
-        sys.exit(f"bench.ate: {e}")
+        sys.exit(f"{tool}: {e}")
     except Exception as e:  # evo's own FileInterfaceException for unreadable files
-        sys.exit(f"bench.ate: {type(e).__name__}: {e}")
-    if a.json:
+        sys.exit(f"{tool}: {type(e).__name__}: {e}")
+    if as_json:
         print(json.dumps(res))
     else:
         for k, v in res.items():

@@ -13,12 +13,10 @@ room's robots). Exit 1 with one line on bad input or when a robot pairs fewer th
 """
 import argparse
 import copy
-import json
-import sys
 
 import numpy as np
 
-from .ate import MAX_DIFF, load
+from .ate import MAX_DIFF, load, print_result
 
 
 def associated(groundtruth, estimate, max_diff=MAX_DIFF, name="trajectory"):
@@ -79,17 +77,7 @@ def main():
     ap.add_argument("--max-diff", type=float, default=MAX_DIFF, help=f"association tolerance, s (default {MAX_DIFF})")
     ap.add_argument("--json", action="store_true", help="print a JSON object instead of text")
     a = ap.parse_args()
-    try:
-        res = combined_ate([tuple(r) for r in a.robot], a.max_diff)
-    except (OSError, ValueError) as e:
-        sys.exit(f"bench.multi_ate: {e}")
-    except Exception as e:  # evo's own FileInterfaceException for unreadable files
-        sys.exit(f"bench.multi_ate: {type(e).__name__}: {e}")
-    if a.json:
-        print(json.dumps(res))
-    else:
-        for k, v in res.items():
-            print(f"{k}: {v}")
+    print_result("bench.multi_ate", lambda: combined_ate([tuple(r) for r in a.robot], a.max_diff), a.json)
 
 
 if __name__ == "__main__":

@@ -21,7 +21,7 @@ import sys
 
 from .ate import ate_stats
 from .multi_ate import combined_ate
-from .bench_data import read_csv
+from .bench_data import read_csv, read_json as load_json
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'edge_slam_common', 'python'))
 from edge_slam_common.tum import InputError, data_lines, read_poses, stamp_seconds  # noqa: E402
@@ -39,14 +39,6 @@ def write_shifted_groundtruth(src, dst, offset):
             us = secs * 1000000 + nsecs // 1000 + offset_us
             f.write('%d.%06d %s\n' % (us // 1000000, us % 1000000, ' '.join(repr(v) for v in values)))
     os.replace(dst + '.tmp', dst)
-
-
-def load_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 def merges_count(out):

@@ -21,17 +21,11 @@ import os
 import subprocess
 import sys
 
+from .bench_data import read_json as _read
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 ROBOT1, ROBOT2 = "bags/synthetic_room", "bags/synthetic_room_robot2"
-
-
-def _read(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 def edge_usage(proc_csv):

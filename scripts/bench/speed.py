@@ -27,6 +27,8 @@ import subprocess
 import sys
 import time
 
+from .bench_data import read_json as _read
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 TOOLS = os.path.join(ROOT, ".ws/devel/lib/edge_slam_common")
@@ -109,12 +111,6 @@ def run_speed(progress, out_dir, dataset, seconds, tracking_runs=None):
 
 # ---------------------------------------------------------------- report
 
-def _read(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 def _verdict(ok):

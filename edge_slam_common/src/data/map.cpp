@@ -12,6 +12,15 @@ std::vector<std::shared_ptr<T>> sorted_values(const FlatIdMap<std::shared_ptr<T>
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a->id() < b->id(); });
   return out;
 }
+// Past the highest id held in [first, end): where an allocator over that space goes on.
+template <typename T>
+uint32_t next_id_in(const FlatIdMap<std::shared_ptr<T>>& m, uint32_t first, uint32_t end) {
+  uint32_t next = first;
+  m.for_each([&](uint32_t id, const std::shared_ptr<T>&) {
+    if (id >= first && id < end) next = std::max(next, id + 1);
+  });
+  return next;
+}
 void raise_to(std::atomic<uint32_t>& counter, uint32_t value) {
   uint32_t cur = counter.load();
   while (cur < value && !counter.compare_exchange_weak(cur, value)) {
@@ -39,21 +48,13 @@ void Map::set_keyframe_id_space(uint32_t first, uint32_t end) {
   std::lock_guard<std::mutex> lock(mutex_);
   kf_id_first_ = first;
   kf_id_end_ = end;
-  uint32_t highest = first;
-  keyframes_.for_each([&](uint32_t id, const std::shared_ptr<KeyFrame>&) {
-    if (id >= first && id < end) highest = std::max(highest, id + 1);
-  });
-  next_kf_id_ = highest;
+  next_kf_id_ = next_id_in(keyframes_, first, end);
 }
 void Map::set_map_point_id_space(uint32_t first, uint32_t end) {
   std::lock_guard<std::mutex> lock(mutex_);
   mp_id_first_ = first;
   mp_id_end_ = end;
-  uint32_t highest = first;
-  map_points_.for_each([&](uint32_t id, const std::shared_ptr<MapPoint>&) {
-    if (id >= first && id < end) highest = std::max(highest, id + 1);
-  });
-  next_mp_id_ = highest;
+  next_mp_id_ = next_id_in(map_points_, first, end);
 }
 void Map::erase_keyframe(uint32_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
