@@ -38,18 +38,26 @@ def load(path_or_traj):
     return path_or_traj
 
 
-def aligned(groundtruth, estimate, max_diff=MAX_DIFF):
-    """(ref, est): the associated pairs, est SE(3)-aligned to ref (copies; inputs untouched).
-    ValueError when fewer than 3 poses pair up."""
+def associated(groundtruth, estimate, max_diff=MAX_DIFF, name=None):
+    """(ref, est) copies holding only the pairs within max_diff, not aligned (inputs untouched).
+    ValueError, naming `name` when given, when fewer than 3 poses pair up."""
     import copy
     from evo.core import sync
+    prefix = f"{name}: " if name else ""
     ref, est = copy.deepcopy(load(groundtruth)), copy.deepcopy(load(estimate))
     try:
         ref, est = sync.associate_trajectories(ref, est, max_diff=max_diff)
     except Exception as e:  # evo's SyncException: nothing in common
-        raise ValueError(f"no poses associated within {max_diff} s: {e}")
+        raise ValueError(f"{prefix}no poses associated within {max_diff} s: {e}")
     if est.num_poses < 3:
-        raise ValueError(f"only {est.num_poses} poses associated within {max_diff} s: cannot align")
+        raise ValueError(f"{prefix}only {est.num_poses} poses associated within {max_diff} s: cannot align")
+    return ref, est
+
+
+def aligned(groundtruth, estimate, max_diff=MAX_DIFF):
+    """(ref, est): the associated pairs, est SE(3)-aligned to ref (copies; inputs untouched).
+    ValueError when fewer than 3 poses pair up."""
+    ref, est = associated(groundtruth, estimate, max_diff)
     est.align(ref, correct_scale=False)
     return ref, est
 

@@ -12,24 +12,10 @@ The ground truths must be in one frame (both halves of a TUM sequence are; so ar
 room's robots). Exit 1 with one line on bad input or when a robot pairs fewer than 3 poses.
 """
 import argparse
-import copy
 
 import numpy as np
 
-from .ate import MAX_DIFF, load, print_result
-
-
-def associated(groundtruth, estimate, max_diff=MAX_DIFF, name="trajectory"):
-    """(ref, est) copies holding only the pairs within max_diff, not aligned."""
-    from evo.core import sync
-    ref, est = copy.deepcopy(load(groundtruth)), copy.deepcopy(load(estimate))
-    try:
-        ref, est = sync.associate_trajectories(ref, est, max_diff=max_diff)
-    except Exception as e:  # evo's SyncException: nothing in common
-        raise ValueError(f"{name}: no poses associated within {max_diff} s: {e}")
-    if est.num_poses < 3:
-        raise ValueError(f"{name}: only {est.num_poses} poses associated within {max_diff} s")
-    return ref, est
+from .ate import MAX_DIFF, associated, print_result
 
 
 def combined_ate(robots, max_diff=MAX_DIFF):
