@@ -181,6 +181,38 @@ TEST(MultiRobotEdge, ARecordWithAnotherRobotsIdsIsRefusedAndCounted) {
   ASSERT_TRUE(edge.wait_until_idle(30.0));
 }
 
+TEST(MultiRobotEdge, AResetClearsOnlyTheResettingRobotsState) {
+  const RenderedSequence& seq = sequence();
+  const std::vector<KeyFrameRecord> robot0 = robot_keyframes(0, 0, 10), robot1 = robot_keyframes(1, 0, 10);
+  ASSERT_GE(robot1.size(), 2u);
+  EdgeSessionParams params;
+  params.robots = 2;
+  params.loop_closing = false;
+  params.late_keyframe_age = 0;
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  for (size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(edge.receive_keyframe(robot0[i], wall_clock_seconds(), nullptr, 0), KeyFrameVerdict::kInserted);
+    ASSERT_TRUE(edge.wait_until_idle(30.0));
+    ASSERT_EQ(edge.receive_keyframe(robot1[i], wall_clock_seconds(), nullptr, 1), KeyFrameVerdict::kInserted);
+    ASSERT_TRUE(edge.wait_until_idle(30.0));
+  }
+  const size_t keyframes = edge.global_map()->num_keyframes();
+  const int group_before = edge.frames().group_of(robot1[1].id);
+  KeyFrameRecord reset = robot1[1];
+  reset.reset = true;
+  reset.seq = robot1.back().seq + 1;
+  EXPECT_EQ(edge.receive_keyframe(reset, wall_clock_seconds(), nullptr, 1), KeyFrameVerdict::kReset);
+  EXPECT_EQ(edge.counters(1).resets, 1u);
+  EXPECT_EQ(edge.counters(0).resets, 0u);
+  EXPECT_EQ(edge.global_map()->num_keyframes(), keyframes) << "robot 1's old KeyFrames stay for the others";
+  EXPECT_TRUE(edge.keyframe_account(1).inserted.empty()) << "robot 1's accounting starts again";
+  EXPECT_EQ(edge.keyframe_account(0).inserted.size(), 2u) << "robot 0 is untouched";
+  EXPECT_EQ(edge.frames().group_of(robot1[1].id), group_before);
+  EXPECT_NE(edge.frames().group_of(reset.id + 1), group_before) << "its next KeyFrames start a map of their own";
+  EXPECT_FALSE(edge.placement(1).T_world_robot);
+  ASSERT_TRUE(edge.placement(0).T_world_robot);
+}
+
 TEST(MultiRobotEdge, OverlappingWalksAreMergedWithTheTransformBetweenTheirFirstPoses) {
   const RenderedSequence& seq = sequence();
   const int offset = 20;  // robot 1 starts where robot 0 was 1.3 s in
