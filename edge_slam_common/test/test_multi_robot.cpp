@@ -261,5 +261,40 @@ TEST(MultiRobotEdge, OverlappingWalksAreMergedWithTheTransformBetweenTheirFirstP
   EXPECT_GT(own, 0);
 }
 
+TEST(MultiRobotEdge, WhenRobotZeroFindsTheOtherMapTheWorldStaysPut) {
+  // Robot 1 maps first; robot 0's KeyFrames then find robot 1's: the loop side (group 1) moves
+  // into robot 0's coordinates, never the other way (group 0 is the world).
+  const RenderedSequence& seq = sequence();
+  const int offset = 20;
+  const std::vector<KeyFrameRecord> robot1 = robot_keyframes(1, offset, kFrames);
+  const std::vector<KeyFrameRecord> robot0 = robot_keyframes(0, 0, kFrames);
+  EdgeSessionParams params;
+  params.robots = 2;
+  params.late_keyframe_age = 0;
+  params.loop.full_ba_in_background = false;
+  params.loop.full_ba = false;  // the stored poses of robot 0 are compared with what it sent
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  for (const KeyFrameRecord& r : robot1) {
+    edge.receive_keyframe(r, wall_clock_seconds(), nullptr, 1);
+    ASSERT_TRUE(edge.wait_until_idle(60.0));
+  }
+  for (const KeyFrameRecord& r : robot0) {
+    edge.receive_keyframe(r, wall_clock_seconds(), nullptr, 0);
+    ASSERT_TRUE(edge.wait_until_idle(60.0));
+  }
+  ASSERT_EQ(edge.merges().size(), 1u);
+  EXPECT_EQ(robot_of_keyframe(edge.merges()[0].current_kf_id), 0);
+  EXPECT_EQ(edge.merges()[0].group_into, 0);
+  const Trajectory trajectory(42);
+  const Eigen::Isometry3d truth = trajectory.pose_at(0.0).inverse() * trajectory.pose_at(offset / 15.0);
+  ASSERT_TRUE(edge.placement(1).T_world_robot);
+  const Eigen::Isometry3d error = truth.inverse() * *edge.placement(1).T_world_robot;
+  EXPECT_LT(error.translation().norm(), 0.03) << "m";
+  EXPECT_LT(rotation_deg(error), 1.0);
+  const auto first = edge.global_map()->keyframe(robot0.front().id);
+  ASSERT_TRUE(first);
+  EXPECT_LT(first->T_wc().translation().norm(), 0.01) << "robot 0's first KeyFrame is still the world's origin";
+}
+
 }  // namespace
 }  // namespace edge_slam

@@ -1,5 +1,6 @@
 #include "edge_slam/module/loop_closing.h"
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <cstdlib>
@@ -113,16 +114,23 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       return false;
     }
   }
-  // Two groups (robots whose maps are not joined yet): a merge, i.e. the current group first
-  // moved rigidly by the verified transform, after which the loop correction is near identity.
-  const int from = group_of ? group_of(kf->id()) : 0, into = group_of ? group_of(match.loop_kf->id()) : 0;
-  const bool merge = from != into && from >= 0 && into >= 0;
+  // Two groups (robots whose maps are not joined yet): a merge. The group with the higher id
+  // moves rigidly into the other's coordinates by the verified transform (so group 0, the
+  // world, never moves), after which the loop correction is near identity.
+  const int current_group = group_of ? group_of(kf->id()) : 0;
+  const int loop_group = group_of ? group_of(match.loop_kf->id()) : 0;
+  const bool merge = current_group != loop_group && current_group >= 0 && loop_group >= 0;
+  const int from = std::max(current_group, loop_group), into = std::min(current_group, loop_group);
   Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
   LoopCorrectionReport report;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
     if (merge) {
-      T_into_from = move_group(kf, match, from, into);
+      // T_cw_corrected is the current camera seen from the loop side.
+      const Eigen::Isometry3d T_loop_current = match.T_cw_corrected.inverse() * kf->T_cw();
+      T_into_from = from == current_group ? T_loop_current : T_loop_current.inverse();
+      move_group(from, T_into_from);
+      if (from == loop_group) match.T_cw_corrected = kf->T_cw();  // the loop side came to it
       if (on_merge) on_merge(from, into, T_into_from);
     }
     report = correct_loop(*map_, kf, match, params_.correction);
@@ -158,11 +166,7 @@ void LoopClosing::start_full_ba(uint32_t kf_id) {
     run_full_ba(kf_id);
 }
 
-Eigen::Isometry3d LoopClosing::move_group(const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match, int from,
-                                          int into) {
-  // T_cw_corrected is the current camera seen from the loop side: T_into_from maps the current
-  // group's coordinates onto the loop group's, exactly for the current KeyFrame.
-  const Eigen::Isometry3d T_into_from = match.T_cw_corrected.inverse() * kf->T_cw();
+void LoopClosing::move_group(int from, const Eigen::Isometry3d& T_into_from) {
   const uint64_t pass = ++merge_passes_ + (uint64_t{1} << 40);  // distinct from any update's pass
   int moved_kfs = 0, moved_points = 0;
   for (const auto& k : map_->keyframes()) {
@@ -173,9 +177,7 @@ Eigen::Isometry3d LoopClosing::move_group(const std::shared_ptr<KeyFrame>& kf, c
       if (id != kNoId)
         if (auto mp = map_->map_point(id); mp && mp->transform_once(T_into_from, pass)) ++moved_points;
   }
-  log_info(log_text("[loop] merging map ", from, " into map ", into, ": ", moved_kfs, " KFs and ", moved_points,
-      " points moved"));
-  return T_into_from;
+  log_info(log_text("[loop] merging map ", from, ": ", moved_kfs, " KFs and ", moved_points, " points moved"));
 }
 
 void LoopClosing::run_full_ba(uint32_t loop_kf_id) {

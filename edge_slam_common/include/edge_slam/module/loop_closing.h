@@ -42,8 +42,9 @@ struct LoopEvent {
   LoopCorrectionReport correction;
 };
 
-// Two maps joined (several robots, module/robot_frames.h): the current KeyFrame's group was
-// moved into the loop KeyFrame's group's coordinates by T_into_from, then corrected as a loop.
+// Two maps joined (several robots, module/robot_frames.h): of the current and the loop
+// KeyFrame's groups, the one with the higher id was moved into the other's coordinates by
+// T_into_from (group 0, the world, never moves), then the loop was corrected.
 struct MergeEvent {
   uint32_t current_kf_id = 0, loop_kf_id = 0;
   int group_from = 0, group_into = 0;
@@ -61,7 +62,7 @@ class LoopClosing {
 
   // Several maps in one (module/robot_frames.h), set before start(): the group of a KeyFrame.
   // A verified loop between KeyFrames of two groups is a merge: every KeyFrame and point of the
-  // current KeyFrame's group moves rigidly into the loop KeyFrame's group's coordinates, then
+  // group with the higher id moves rigidly into the other's coordinates, then
   // the loop is corrected (points fused, essential graph) and a full BA runs, as for a loop.
   // on_merge runs with Map::update_mutex() held, right after the move (the owner re-labels the
   // groups there, so no KeyFrame is received in between with the old transform); it must take
@@ -88,8 +89,8 @@ class LoopClosing {
  private:
   void run();
   void run_full_ba(uint32_t loop_kf_id);
-  // Moves the current KeyFrame's group into the loop KeyFrame's; the caller holds the map update mutex.
-  Eigen::Isometry3d move_group(const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match, int from, int into);
+  // Moves every KeyFrame of group `from` and its points by T_into_from; the caller holds the map update mutex.
+  void move_group(int from, const Eigen::Isometry3d& T_into_from);
   void start_full_ba(uint32_t kf_id);
   void stop_full_ba();
 
