@@ -134,6 +134,7 @@ def plot(figures, path):
     ax[2].legend(fontsize=8)
     for a in ax:
         a.set_xticks(n)
+        a.set_ylim(bottom=0)  # from zero: the growth is read against the whole
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
