@@ -39,6 +39,7 @@
 #include <std_msgs/String.h>
 #include <std_msgs/UInt64.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -59,6 +60,17 @@ class EdgeNodelet : public nodelet::Nodelet {
     ros::NodeHandle& pnh = getMTPrivateNodeHandle();
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param("mobiles", mobiles_, std::vector<std::string>{});
+    for (size_t i = 0; i < mobiles_.size(); ++i) {
+      std::string why;
+      if (!ros::names::validate(mobiles_[i], why) || mobiles_[i].empty() || mobiles_[i].front() == '/')
+        why = "'" + mobiles_[i] + "' is not a relative ROS name" + (why.empty() ? "" : ": " + why);
+      else if (std::find(mobiles_.begin(), mobiles_.begin() + i, mobiles_[i]) != mobiles_.begin() + i)
+        why = "'" + mobiles_[i] + "' is listed twice";
+      if (!why.empty()) {
+        NODELET_FATAL("cannot start the edge: ~mobiles entry %zu: %s (expected e.g. [robot1, robot2])", i, why.c_str());
+        return;
+      }
+    }
     if (!mobiles_.empty()) map_frame_ = "world";  // the merged Global-Map
     try {
       const edge_slam::NodeConfig cfg = edge_slam::load_node_config(pnh);
@@ -87,7 +99,15 @@ class EdgeNodelet : public nodelet::Nodelet {
     status_srv_ = pnh.advertiseService("status", &EdgeNodelet::on_status, this);
     save_srv_ = pnh.advertiseService("save_map", &EdgeNodelet::on_save_map, this);
     load_srv_ = pnh.advertiseService("load_map", &EdgeNodelet::on_load_map, this);
-    for (int r = 0; r < system_->robots(); ++r) wire_robot(r, mobiles_.empty() ? nh : ros::NodeHandle("/" + mobiles_[r] + "/edge_slam"));
+    for (int r = 0; r < system_->robots(); ++r) {
+      if (mobiles_.empty()) {
+        wire_robot(r, nh);
+        continue;
+      }
+      ros::NodeHandle rnh("/" + mobiles_[r] + "/edge_slam");
+      rnh.setCallbackQueue(nh.getCallbackQueue());  // the nodelet's threads, as for one mobile
+      wire_robot(r, rnh);
+    }
     const double update_period = settings.session.update_period;
     update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) {
       for (int r = 0; r < system_->robots(); ++r) send_update(r);
