@@ -7,6 +7,8 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 help_on_request "$@"
 cd "$ROOT"
 bash scripts/setup.sh
+# The second synthetic robot (issue #16's two-robot test): rendered once, then cached like the first.
+bash scripts/make_dataset.sh --robot2
 ros_env
 RESULTS="$ROOT/.ws/build/test_results"
 rm -rf "$RESULTS"

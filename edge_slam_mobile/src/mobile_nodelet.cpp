@@ -53,6 +53,7 @@ using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::
 class MobileNodelet : public nodelet::Nodelet {
  public:
   ~MobileNodelet() override {
+    for (ros::WallTimer* t : {&display_timer_, &stats_timer_}) t->stop();  // none fires into a half-destroyed nodelet
     running_ = false;
     if (system_)
       if (auto s = system_->session()) s->outbox().close();

@@ -1,6 +1,7 @@
 """ROS helpers shared by the bench tools and test/delivery: one parser of `rosservice call`
 output and rospy's own wait for a service."""
 import subprocess
+import sys
 import time
 
 import yaml
@@ -110,13 +111,53 @@ def release_players(robots, timeout):
     for p in proxies:
         p.wait_for_service(timeout=5.0)
         p(True)
+    clock = ClockWatch()
     started = time.monotonic()
     for p in proxies:
         p(False)
     spread = time.monotonic() - started
+    # Everyone runs on sim time: the edge's update timer and the mobiles' update policy move
+    # only if /clock does. Once in a loaded run the clock robot's player played its frames while
+    # its /clock stayed at the paused stamp (cause not found); a second resume is the workaround,
+    # and a clock that still does not move fails the run here instead of silently.
+    for attempt in range(2):
+        if clock.advanced_by(0.5, timeout=10.0):
+            break
+        print(f"bench.ros_util: /clock still at {clock.first} s 10 s after resuming the players: resuming again",
+              file=sys.stderr)
+        for p in proxies:
+            p(True)
+            p(False)
+    else:
+        raise RuntimeError(f"/clock did not advance past {clock.first} s after resuming the players")
     for p in proxies:
         p.close()
     return spread
+
+
+class ClockWatch:
+    """The first /clock value seen and whether a later one passed it by some seconds."""
+
+    def __init__(self):
+        import rospy
+        from rosgraph_msgs.msg import Clock
+        rospy.init_node("release_players", anonymous=True, disable_signals=True)
+        self.first = self.last = None
+        self._sub = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=10)
+
+    def _on_clock(self, msg):
+        t = msg.clock.to_sec()
+        if self.first is None:
+            self.first = t
+        self.last = t
+
+    def advanced_by(self, seconds, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if self.first is not None and self.last - self.first >= seconds:
+                return True
+            time.sleep(0.05)
+        return False
 
 
 def main():

@@ -6,6 +6,7 @@
 #include "edge_slam/util/log.h"
 #include "edge_slam/util/robot_ids.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace edge_slam {
@@ -215,6 +216,22 @@ EdgeCounters total_counters(const EdgeSession& session) {
   }
   return t;  // the seqs are robot 0's: each robot has its own (ack)
 }
+// Where the robot's KeyFrames went (module/edge_session.h KeyFrameAccount): distinct ids
+// received, inserted, still in the Global-Map, culled; `lost` = inserted but neither (a bug).
+MetricsJson account_json(const KeyFrameAccount& a) {
+  size_t lost = 0;
+  for (uint32_t id : a.inserted)
+    if (!std::binary_search(a.in_map.begin(), a.in_map.end(), id) &&
+        !std::binary_search(a.culled.begin(), a.culled.end(), id))
+      ++lost;
+  MetricsJson j;
+  j.integer("received", static_cast<long long>(a.received.size()))
+      .integer("inserted", static_cast<long long>(a.inserted.size()))
+      .integer("in_map", static_cast<long long>(a.in_map.size()))
+      .integer("culled", static_cast<long long>(a.culled.size()))
+      .integer("lost", static_cast<long long>(lost));
+  return j;
+}
 std::string pose_json(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.rotation());
   const Eigen::Vector3d t = T.translation();
@@ -304,6 +321,7 @@ void EdgeSystem::write_outputs() {
           .integer("foreign_ids", static_cast<long long>(rc.foreign_ids))
           .integer("updates_built", static_cast<long long>(rc.updates_built))
           .integer("map_group", p.group)
+          .object("keyframe_account", account_json(session_->keyframe_account(r)))
           .raw("T_world_robot", p.T_world_robot ? pose_json(*p.T_world_robot) : "null");
       {
         std::lock_guard<std::mutex> lock(figures_mutex_);
