@@ -12,6 +12,10 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
   last_raw_candidates_ = 0;
   if (!kf->has_bow() || kf->is_bad()) return {};
   if (map.num_keyframes() < params_.min_map_keyframes) return {};
+  {
+    uint32_t& newest = newest_kf_ids_[robot_of_keyframe(kf->id())];
+    newest = std::max(newest, kf->id());
+  }
   const auto last_loop = last_loop_kf_ids_.find(robot_of_keyframe(kf->id()));
   if (last_loop != last_loop_kf_ids_.end() && kf->id() < last_loop->second + params_.min_keyframes_after_loop)
     return {};
@@ -72,6 +76,12 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
   return consistent;
 }
 
-void LoopDetector::set_last_loop_keyframe(uint32_t kf_id) { last_loop_kf_ids_[robot_of_keyframe(kf_id)] = kf_id; }
+// Every robot waits for min_keyframes_after_loop KeyFrames of its own after a loop, whoever
+// closed it: one map's loops then come no faster than with one robot (each loop's full BA gets
+// the time to finish instead of being aborted by the next robot's loop a KeyFrame later).
+void LoopDetector::set_last_loop_keyframe(uint32_t kf_id) {
+  for (const auto& [robot, newest] : newest_kf_ids_) last_loop_kf_ids_[robot] = newest;
+  last_loop_kf_ids_[robot_of_keyframe(kf_id)] = kf_id;
+}
 
 }  // namespace edge_slam

@@ -26,7 +26,7 @@ class LoopDetector {
   // Consistent candidates for `kf` (empty most of the time). Updates the group history.
   std::vector<std::shared_ptr<KeyFrame>> detect(const Map& map, const KeyFrameDatabase& database,
                                                 const std::shared_ptr<KeyFrame>& kf);
-  // No detection for the next min_keyframes_after_loop KeyFrames of the same robot.
+  // No detection for the next min_keyframes_after_loop KeyFrames of each robot.
   void set_last_loop_keyframe(uint32_t kf_id);
   double last_min_score() const { return last_min_score_; }
   size_t last_raw_candidates() const { return last_raw_candidates_; }
@@ -38,7 +38,8 @@ class LoopDetector {
   };
   LoopDetectorParams params_;
   std::map<int, std::vector<Group>> groups_;  // per robot (util/robot_ids.h)
-  std::map<int, uint32_t> last_loop_kf_ids_;  // robot (util/robot_ids.h) -> its KeyFrame of the last loop
+  std::map<int, uint32_t> last_loop_kf_ids_;  // robot (util/robot_ids.h) -> its newest KeyFrame at the last loop
+  std::map<int, uint32_t> newest_kf_ids_;     // robot -> its newest KeyFrame seen by detect()
   double last_min_score_ = 0;
   size_t last_raw_candidates_ = 0;
 };
