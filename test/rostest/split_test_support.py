@@ -115,6 +115,13 @@ class SplitSystem:
         """With the player paused: the frames in flight are tracked and the KeyFrames in flight
         have reached the edge."""
         self.wait_for_frames_processed(timeout=timeout)
+        # A frame the player published just before the pause may reach the mobile after the
+        # newest one this test saw (two subscribers, no order between them): drained means no
+        # further pose for a second, as the edge's "settled" is judged (bench.ros_util).
+        repo_root()
+        from bench.ros_util import wait_until_steady
+        if not wait_until_steady(lambda: len(self.poses), 1.0, timeout):
+            raise AssertionError('the mobile kept publishing poses %.0f s after the player paused' % timeout)
         self.wait_for_keyframes_delivered(timeout)
 
     def wait_for_edge_settled(self, timeout=120):
