@@ -10,7 +10,7 @@ import rospy
 from edge_slam_msgs.msg import Stats
 from edge_slam_msgs.srv import GetDeliveryStatus, GetEdgeStatus, GetMapUpdateStatus, SetMapUpdates
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import CameraInfo
+from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 
 NS = '/edge_slam'
@@ -40,11 +40,10 @@ class SplitSystem:
         self.stats_seen = 0
         rospy.Subscriber(NS + '/mobile/odometry', Odometry, self._on_odometry, queue_size=100)
         rospy.Subscriber(NS + '/mobile/stats', Stats, self._on_stats, queue_size=10)
-        # The player's frames, by the stamps of their (small) camera_info messages: one per image.
-        self.sent = {'rgb': set(), 'depth': set()}
-        for kind in self.sent:
-            rospy.Subscriber('/camera/%s/camera_info' % kind, CameraInfo,
-                             lambda m, k=kind: self.sent[k].add(m.header.stamp.to_sec()), queue_size=100)
+        # The mobile publishes ~state once for every camera frame it deals with (tracked, lost or
+        # refused by tracking): the count is how the tests know it is idle.
+        self.frames_dealt_with = 0
+        rospy.Subscriber(NS + '/mobile/state', String, self._on_state, queue_size=100)
         for name in ('/mobile/map_update_status', '/mobile/set_map_updates', '/mobile/reset', '/mobile/delivery_status',
                      '/edge/status'):
             rospy.wait_for_service(NS + name, timeout=120)
@@ -59,20 +58,25 @@ class SplitSystem:
         self.poses.append((msg.header.stamp.to_sec(), p.x, p.y, p.z, q.x, q.y, q.z, q.w))
         self.last_pose_wall = time.time()
 
+    def _on_state(self, _msg):
+        self.frames_dealt_with += 1
+
     def _on_stats(self, msg):
         values = dict(zip(msg.names, msg.values))
         self.local_map_max = max(self.local_map_max, int(values.get('local_map_keyframes', 0)))
         self.stats_seen += 1
 
-    def wait_until(self, condition, timeout, what):
-        """Polls `condition` (wall clock); returns its last value or fails with `what`."""
+    def wait_until(self, condition, timeout, what, detail=None):
+        """Polls `condition` (wall clock); returns its last value or fails with `what` (and what
+        detail() says then: the counters that tell why)."""
         deadline = time.time() + timeout
         while time.time() < deadline and not rospy.is_shutdown():
             value = condition()
             if value:
                 return value
             time.sleep(0.2)
-        raise AssertionError('timed out after %.0f s waiting for %s' % (timeout, what))
+        raise AssertionError('timed out after %.0f s waiting for %s%s' % (
+            timeout, what, '; %s' % detail() if detail else ''))
 
     def wait_for_tracking(self, timeout=120):
         """The mobile answers status calls once it tracks its first frame."""
@@ -97,31 +101,23 @@ class SplitSystem:
             return made <= set(self.edge_status().received_ids)
         self.wait_until(delivered, timeout, 'every KeyFrame the mobile made to reach the edge')
 
-    def last_frame_sent(self):
-        """Stamp (s) of the newest colour + depth pair the player has sent, or None."""
-        both = self.sent['rgb'] & self.sent['depth']
-        return max(both) if both else None
-
-    def wait_for_frames_processed(self, stamp=None, timeout=60):
-        """The mobile has tracked the camera frame stamped `stamp` (s; default: the newest pair the
-        player sent, e.g. once it is paused): its pose is on the odometry topic."""
-        t = self.last_frame_sent() if stamp is None else stamp
-        if t is None:
-            raise AssertionError('the player has sent no camera frame')
-        self.wait_until(lambda: any(abs(p[0] - t) < 1e-6 for p in self.poses[-50:]), timeout,
-                        'the mobile to track the last frame sent (stamp %.6f)' % t)
+    def wait_for_frame_tracked(self, stamp, timeout=20):
+        """The mobile has tracked the camera frame stamped `stamp` (s): its pose is on the odometry
+        topic. For a frame the test itself sent."""
+        self.wait_until(lambda: any(abs(p[0] - stamp) < 1e-6 for p in self.poses[-50:]), timeout,
+                        'the mobile to track the frame stamped %.6f' % stamp)
 
     def wait_for_pipeline_drained(self, timeout=60):
-        """With the player paused: the frames in flight are tracked and the KeyFrames in flight
-        have reached the edge."""
-        self.wait_for_frames_processed(timeout=timeout)
-        # A frame the player published just before the pause may reach the mobile after the
-        # newest one this test saw (two subscribers, no order between them): drained means no
-        # further pose for a second, as the edge's "settled" is judged (bench.ros_util).
+        """With the player paused: the mobile has dealt with every camera frame in flight (no ~state
+        and no pose for 2 s) and the KeyFrames it made have reached the edge.
+        Not "the newest frame the player sent has a pose": that frame may never come (rosbag play
+        can pause between a frame's camera_info and its image; under load the short image queues
+        drop frames) or come without a pose (tracking lost), and a frame sent just before the pause
+        may arrive after the newest one seen (two subscribers, no order between them)."""
         repo_root()
         from bench.ros_util import wait_until_steady
-        if not wait_until_steady(lambda: len(self.poses), 1.0, timeout):
-            raise AssertionError('the mobile kept publishing poses %.0f s after the player paused' % timeout)
+        if not wait_until_steady(lambda: (self.frames_dealt_with, len(self.poses)), 2.0, timeout):
+            raise AssertionError('the mobile kept dealing with camera frames %.0f s after the player paused' % timeout)
         self.wait_for_keyframes_delivered(timeout)
 
     def wait_for_edge_settled(self, timeout=120):

@@ -213,7 +213,7 @@ class ValidationTest(unittest.TestCase):
             pub_depth.publish(d)
             # The image queues are short (2): the next pair goes out once this one is dealt with.
             if reasons[k] is None:
-                system.wait_for_frames_processed(stamp.to_sec(), 20)
+                system.wait_for_frame_tracked(stamp.to_sec(), 20)
             else:
                 so_far[reasons[k]] += 1
                 want = dict(so_far)
