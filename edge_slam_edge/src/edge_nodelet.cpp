@@ -6,7 +6,8 @@
 //        (5 Hz, and as soon as Local-Mapping finishes a KeyFrame: received / durable / mapped
 //        seqs and the boot id), ~global_map (PointCloud2), ~keyframes (MarkerArray),
 //        ~keyframe_path (nav_msgs/Path), ~loops (one line per loop closed), ~stats (1 Hz)
-//   srv: ~status (edge_slam_msgs/GetEdgeStatus: counters and KeyFrame id accounting),
+//   srv: ~status (edge_slam_msgs/GetEdgeStatus: counters and KeyFrame id accounting; with
+//        several mobiles robot 0's, and each robot's at /<robot>/edge_slam/edge_status),
 //        ~save_map, ~load_map (edge_slam_msgs/MapFile; an empty path means ~checkpoint_file)
 // Several mobiles (~mobiles: [robot1, robot2], robot i sending with ~robot_index i): each
 // robot's topics above live under /<robot>/edge_slam/, the maps of robots that see the same
@@ -107,6 +108,8 @@ class EdgeNodelet : public nodelet::Nodelet {
       ros::NodeHandle rnh("/" + mobiles_[r] + "/edge_slam");
       rnh.setCallbackQueue(nh.getCallbackQueue());  // the nodelet's threads, as for one mobile
       wire_robot(r, rnh);
+      robots_[r].status_srv = rnh.advertiseService<edge_slam_msgs::GetEdgeStatus::Request, edge_slam_msgs::GetEdgeStatus::Response>(
+          "edge_status", [this, r](auto&, auto& res) { return fill(res, *system_, r), true; });
     }
     const double update_period = settings.session.update_period;
     update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) {
@@ -196,7 +199,7 @@ class EdgeNodelet : public nodelet::Nodelet {
   }
 
   bool on_status(edge_slam_msgs::GetEdgeStatus::Request&, edge_slam_msgs::GetEdgeStatus::Response& res) {
-    fill(res, *system_);
+    fill(res, *system_, 0);
     return true;
   }
 
@@ -247,6 +250,7 @@ class EdgeNodelet : public nodelet::Nodelet {
   struct Robot {
     ros::Publisher update_pub, ack_pub;
     ros::Subscriber keyframe_sub, frame_sub, floor_sub;
+    ros::ServiceServer status_srv;  // /<robot>/edge_slam/edge_status: ~status for this robot
   };
   std::vector<Robot> robots_;  // index = robot index; filled in onInit, before any callback
   edge_slam::MapDisplay display_;

@@ -1,15 +1,15 @@
-// The edge's ~status service filled from the core (split/edge_system.h): counters, the KeyFrame
-// id accounting and the durability state.
+// The edge's ~status service filled from the core (split/edge_system.h): one robot's counters,
+// KeyFrame id accounting and delivery state, the whole Global-Map's size, the durability state.
 #pragma once
 #include <edge_slam/split/edge_system.h>
 #include <edge_slam_msgs/GetEdgeStatus.h>
 
 namespace edge_slam_edge {
 
-inline void fill(edge_slam_msgs::GetEdgeStatus::Response& res, const edge_slam::EdgeSystem& system) {
+inline void fill(edge_slam_msgs::GetEdgeStatus::Response& res, const edge_slam::EdgeSystem& system, int robot) {
   using Topic = edge_slam::EdgeSystem::Topic;
   const edge_slam::EdgeSession& session = system.session();
-  const edge_slam::EdgeCounters c = session.counters();
+  const edge_slam::EdgeCounters c = session.counters(robot);
   res.received = static_cast<uint32_t>(c.received);
   res.inserted = static_cast<uint32_t>(c.inserted);
   res.duplicates = static_cast<uint32_t>(c.duplicates);
@@ -25,7 +25,7 @@ inline void fill(edge_slam_msgs::GetEdgeStatus::Response& res, const edge_slam::
   const auto map = session.global_map();
   res.global_map_keyframes = static_cast<uint32_t>(map->num_keyframes());
   res.global_map_points = static_cast<uint32_t>(map->num_map_points());
-  const edge_slam::KeyFrameAccount a = session.keyframe_account();
+  const edge_slam::KeyFrameAccount a = session.keyframe_account(robot);
   res.inserted_ids = a.inserted;
   res.culled_ids = a.culled;
   res.global_map_ids = a.in_map;

@@ -83,15 +83,16 @@ def stats(values):
 POSES_WITHOUT_ANCHOR = 4
 
 
-def split_files_complete(out, pose_stamps, global_map_ids):
+def split_files_complete(out, pose_stamps, global_map_ids, keyframes_file=None):
     """True once a split run's files hold what the nodelets have done: an F anchor for every pose
     the mobile published (data stamps, s; the mobile flushes its anchors every second) and, in
-    edge_keyframes.txt (rewritten atomically every second), exactly the Global-Map KeyFrame ids
-    the edge reports (its untagged lines; 'C' lines are culled KeyFrames, io/anchors_file.h)."""
+    edge_keyframes.txt (rewritten atomically every second; default out/edge_keyframes.txt, with
+    several robots the one edge's file beside the robots' folders), exactly the Global-Map
+    KeyFrame ids the edge reports (its untagged lines; 'C' lines are culled KeyFrames, io/anchors_file.h)."""
     from edge_slam_common.tum import InputError, read_records
     try:
         anchors = read_records(os.path.join(out, "mobile_anchors.txt"), {"F": 10, "K": 10})
-        keyframes = read_records(os.path.join(out, "edge_keyframes.txt"), {None: 9, "C": 10})
+        keyframes = read_records(keyframes_file or os.path.join(out, "edge_keyframes.txt"), {None: 9, "C": 10})
     except InputError:  # not written yet
         return False
     frames = [float(w[1]) for _, w in anchors if w[0] == "F"]

@@ -31,27 +31,31 @@ def node_running(name):
 
 
 class SplitSystem:
-    """Talks to a running mobile + edge pair (launch/edge_slam.launch)."""
+    """Talks to a running mobile + edge pair (launch/edge_slam.launch). With several robots
+    (edge_slam.launch robots:=N) one SplitSystem per robot, `robot` its namespace ('robot1', ...)."""
 
-    def __init__(self):
+    def __init__(self, robot=None):
+        mobile = ('/%s%s' % (robot, NS) if robot else NS) + '/mobile'
         self.poses = []            # (stamp, x, y, z, qx, qy, qz, qw) from the mobile's odometry
         self.last_pose_wall = None
         self.local_map_max = 0     # largest local_map_keyframes seen on the mobile's stats topic
         self.stats_seen = 0
-        rospy.Subscriber(NS + '/mobile/odometry', Odometry, self._on_odometry, queue_size=100)
-        rospy.Subscriber(NS + '/mobile/stats', Stats, self._on_stats, queue_size=10)
+        rospy.Subscriber(mobile + '/odometry', Odometry, self._on_odometry, queue_size=100)
+        rospy.Subscriber(mobile + '/stats', Stats, self._on_stats, queue_size=10)
         # The mobile publishes ~state once for every camera frame it deals with (tracked, lost or
         # refused by tracking): the count is how the tests know it is idle.
         self.frames_dealt_with = 0
-        rospy.Subscriber(NS + '/mobile/state', String, self._on_state, queue_size=100)
-        for name in ('/mobile/map_update_status', '/mobile/set_map_updates', '/mobile/reset', '/mobile/delivery_status',
-                     '/edge/status'):
-            rospy.wait_for_service(NS + name, timeout=120)
-        self.delivery_status = rospy.ServiceProxy(NS + '/mobile/delivery_status', GetDeliveryStatus)
-        self.mobile_status = rospy.ServiceProxy(NS + '/mobile/map_update_status', GetMapUpdateStatus)
-        self.set_updates = rospy.ServiceProxy(NS + '/mobile/set_map_updates', SetMapUpdates)
-        self.reset = rospy.ServiceProxy(NS + '/mobile/reset', Trigger)
-        self.edge_status = rospy.ServiceProxy(NS + '/edge/status', GetEdgeStatus)
+        rospy.Subscriber(mobile + '/state', String, self._on_state, queue_size=100)
+        for name in ('/map_update_status', '/set_map_updates', '/reset', '/delivery_status'):
+            rospy.wait_for_service(mobile + name, timeout=120)
+        # The edge's ~status is robot 0's; with several robots each has its own in its namespace.
+        edge = '/%s%s/edge_status' % (robot, NS) if robot else NS + '/edge/status'
+        rospy.wait_for_service(edge, timeout=120)
+        self.delivery_status = rospy.ServiceProxy(mobile + '/delivery_status', GetDeliveryStatus)
+        self.mobile_status = rospy.ServiceProxy(mobile + '/map_update_status', GetMapUpdateStatus)
+        self.set_updates = rospy.ServiceProxy(mobile + '/set_map_updates', SetMapUpdates)
+        self.reset = rospy.ServiceProxy(mobile + '/reset', Trigger)
+        self.edge_status = rospy.ServiceProxy(edge, GetEdgeStatus)  # this robot's counters and ids
 
     def _on_odometry(self, msg):
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
