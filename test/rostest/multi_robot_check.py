@@ -6,77 +6,58 @@ world), have an ATE under 2 cm against their common ground truth with ONE alignm
 each robot accepted at least 3 Local-Map updates; every KeyFrame each robot made reached the
 edge, and those the edge inserted are in the Global-Map or culled. Each robot's poses as tracked
 (what it navigates on, its own map frame before the merge) are printed and held under 5 cm."""
-import os
 import sys
 import unittest
 
 import rospy
 import rostest
-from edge_slam_msgs.msg import MapMerge
 
-from split_test_support import SplitSystem, ate_rmse, node_running, repo_root
-
-ROBOTS = ('robot1', 'robot2')
-DATA = {'robot1': 'bags/synthetic_room', 'robot2': 'bags/synthetic_room_robot2'}  # edge_slam.launch's bag1, bag2
+from multi_test_support import ROBOTS, MultiRobotRun
+from split_test_support import node_running
 
 
 class MultiRobotTest(unittest.TestCase):
     def test_two_mobiles_on_one_edge(self):
-        root = repo_root()
-        from bench.bench_data import split_files_complete
-        from bench.final_trajectory import compose
+        run = MultiRobotRun()  # scripts/ on the path: the bench package
         from bench.multi_ate import combined_ate
-        from bench.ros_util import release_players
-        out = rospy.get_param('~out')
-        merges = []
-        rospy.Subscriber('/edge_slam/edge/merges', MapMerge, merges.append, queue_size=10)
-        robots = {name: SplitSystem(name) for name in ROBOTS}
-        first = robots[ROBOTS[0]]
-        release_players(list(ROBOTS), 180)
-        first.wait_until(lambda: not any(node_running('/%s/player' % r) for r in ROBOTS), 400,
-                         'both players to finish their bags')
-        first.wait_for_edge_settled()
-        for name, system in robots.items():
+        run.release_players()
+        run.first.wait_until(lambda: not any(node_running('/%s/player' % r) for r in ROBOTS), 400,
+                             'both players to finish their bags')
+        run.first.wait_for_edge_settled()
+        for system in run.robots.values():
             system.wait_for_keyframes_delivered()
-        status = {name: system.edge_status() for name, system in robots.items()}
+        status = {name: system.edge_status() for name, system in run.robots.items()}
         in_map = set().union(*(set(s.global_map_ids) for s in status.values()))
-        for name, system in robots.items():  # the nodelets rewrite their files every second
-            system.wait_until(lambda: split_files_complete(os.path.join(out, name), [p[0] for p in system.poses], in_map,
-                                                           os.path.join(out, 'edge_keyframes.txt')),
-                              30, '%s\'s anchors and the Global-Map KeyFrame file in %s to be complete' % (name, out))
+        finals = run.final_trajectories(ROBOTS, in_map)
 
-        estimates, lines = [], []
-        for name, system in robots.items():
-            gt = os.path.join(root, DATA[name], 'groundtruth.txt')
-            final = os.path.join(out, name, 'trajectory.txt')
-            counts = compose(os.path.join(out, name, 'mobile_anchors.txt'), os.path.join(out, 'edge_keyframes.txt'), final)
-            estimates.append((name, gt, final))
-            online, matched = ate_rmse(system.poses, gt)
+        lines, online, anchored = [], {}, {}
+        for name, system in run.robots.items():
+            online[name], matched = run.online_ate(name)
+            counts = finals[name][1]
+            anchored[name] = counts['anchored'] / max(1, counts['frames'])
             mobile, edge = system.mobile_status(), status[name]
             lines.append('%s: as tracked %.2f cm over %d poses (own frame); %d of %d frames anchored; updates received %d '
                          'accepted %d; KeyFrames made %d, edge received %d, inserted %d, in Global-Map %d, culled %d, '
                          'refused by condition 2 %d' % (
-                             name, online * 100, matched, counts['anchored'], counts['frames'], mobile.received,
+                             name, online[name] * 100, matched, counts['anchored'], counts['frames'], mobile.received,
                              mobile.accepted, len(system.delivery_status().created_ids), len(edge.received_ids),
                              len(edge.inserted_ids), len(edge.global_map_ids), len(edge.culled_ids),
                              edge.rejected_condition2))
-            system.online = online
-            system.anchored = counts['anchored'] / max(1, counts['frames'])
-        both = combined_ate(estimates)
-        print('\n'.join(['', 'run files in %s' % out] + lines + [
+        both = combined_ate([(name, run.groundtruth(name), finals[name][0]) for name in ROBOTS])
+        print('\n'.join(['', 'run files in %s' % run.out] + lines + [
             'merges: %s' % ['%s into %s (KeyFrame %d ~ %d, %d matches)' % (
-                m.robot, m.into_robot, m.keyframe, m.loop_keyframe, m.matches) for m in merges],
+                m.robot, m.into_robot, m.keyframe, m.loop_keyframe, m.matches) for m in run.merges],
             'final trajectories in the world frame, one alignment: ATE %.2f cm over %d poses (%s)' % (
                 both['ate_rmse_m'] * 100, both['ate_pairs'], ', '.join(
                     '%s %.2f cm' % (n, r['ate_rmse_m'] * 100) for n, r in both['robots'].items()))]), file=sys.stderr)
 
-        self.assertEqual(len(merges), 1, 'one merge of the two maps')
-        self.assertEqual({merges[0].robot, merges[0].into_robot}, set(ROBOTS))
+        self.assertEqual(len(run.merges), 1, 'one merge of the two maps')
+        self.assertEqual({run.merges[0].robot, run.merges[0].into_robot}, set(ROBOTS))
         self.assertLess(both['ate_rmse_m'], 0.02, 'both final trajectories in one frame, one alignment')
-        for name, system in robots.items():
+        for name, system in run.robots.items():
             self.assertGreater(both['robots'][name]['ate_pairs'], 700, '%s in the alignment' % name)
-            self.assertGreater(system.anchored, 0.9, '%s: frames anchored on the Global-Map' % name)
-            self.assertLess(system.online, 0.05, '%s: poses as tracked' % name)
+            self.assertGreater(anchored[name], 0.9, '%s: frames anchored on the Global-Map' % name)
+            self.assertLess(online[name], 0.05, '%s: poses as tracked' % name)
             self.assertGreaterEqual(system.mobile_status().accepted, 3, '%s: Local-Map updates accepted' % name)
             edge = status[name]
             made = set(system.delivery_status().created_ids)
