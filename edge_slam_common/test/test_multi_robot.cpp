@@ -121,18 +121,6 @@ TEST(RobotFramesTest, RecordsMoveWithTheirPoints) {
   EXPECT_TRUE(u.points[0].normal.isApprox(Eigen::Vector3f(0, 1, 0), 1e-5f)) << "a direction: rotated only";
 }
 
-// A mobile as robot `robot` tracking frames [first, last) of the fixture; the records it sent.
-std::vector<KeyFrameRecord> robot_keyframes(int robot, int first, int last) {
-  const RenderedSequence& seq = sequence();
-  MobileSessionParams params = paper_pacing();
-  params.robot_index = robot;
-  MobileSession mobile = make_session(params);
-  for (int i = first; i < last; ++i) mobile.track(seq.colors[i], seq.depths[i], i / 15.0);
-  std::vector<KeyFrameRecord> sent;
-  while (auto r = mobile.outbox().try_pop()) sent.push_back(std::move(*r));
-  return sent;
-}
-
 // A mobile's condition 2 with an edge that maps this robot's KeyFrames at once but, when
 // `busy_elsewhere`, says its Local-Mapping holds another robot's KeyFrame.
 int keyframes_made_with(bool busy_elsewhere) {

@@ -31,7 +31,7 @@ inline void fill(edge_slam_msgs::GetEdgeStatus::Response& res, const edge_slam::
   res.global_map_ids = a.in_map;
   res.received_ids = a.received;
   res.received_seq = c.received_seq;
-  res.durable_seq = system.durability().durable_seq();
+  res.durable_seq = system.durability().durable_seq(robot);
   res.boot_id = system.durability().boot_id();
   res.checkpoints = static_cast<uint32_t>(system.durability().checkpoints());
 }

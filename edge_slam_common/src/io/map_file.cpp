@@ -21,13 +21,24 @@ constexpr size_t kFeatureBytes = 5 * 4 + 4 + 4 + 32;  // x y size angle response
 constexpr size_t kPointBytes = 4 + 12 + 32 + 12 + 8 + 4;
 constexpr size_t kMinKeyFrameBytes = 8 + 4 + 4 + 8 + 96 + 4 + 5 * 8 + 4 + 8 + 4 + 4 + 4 + 4 + 4 + 4;
 
+void put_pose(ByteWriter& w, const Eigen::Isometry3d& T) {
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) w.put(T.matrix()(row, col));
+}
+
+Eigen::Isometry3d get_pose(ByteReader& in, const char* what) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) T.matrix()(row, col) = in.get<double>(what);
+  return T;
+}
+
 void put_keyframe(ByteWriter& w, const KeyFrameRecord& r, const std::vector<uint32_t>& loops) {
   w.put(r.seq);
   w.put(r.id);
   w.put(r.frame_id);
   w.put(r.stamp);
-  for (int row = 0; row < 3; ++row)
-    for (int col = 0; col < 4; ++col) w.put(r.T_wc.matrix()(row, col));
+  put_pose(w, r.T_wc);
   w.put_string(r.camera.name);
   for (double v : {r.camera.fx, r.camera.fy, r.camera.cx, r.camera.cy, r.camera.bf}) w.put(v);
   w.put(r.camera.th_depth);
@@ -69,8 +80,7 @@ KeyFrameRecord get_keyframe(ByteReader& in, std::vector<uint32_t>& loops) {
   r.id = in.get<uint32_t>("KeyFrame id");
   r.frame_id = in.get<uint32_t>("frame id");
   r.stamp = in.get<double>("stamp");
-  for (int row = 0; row < 3; ++row)
-    for (int col = 0; col < 4; ++col) r.T_wc.matrix()(row, col) = in.get<double>("pose");
+  r.T_wc = get_pose(in, "pose");
   r.camera.name = in.get_string(256, "camera name");
   r.camera.fx = in.get<double>("fx");
   r.camera.fy = in.get<double>("fy");
@@ -140,6 +150,71 @@ MapPointRecord get_point(ByteReader& in) {
   return p;
 }
 
+void put_ids(ByteWriter& w, const std::vector<uint32_t>& ids) {
+  w.put(static_cast<uint32_t>(ids.size()));
+  for (uint32_t id : ids) w.put(id);
+}
+
+void get_ids(ByteReader& in, std::vector<uint32_t>& ids) {
+  ids.resize(in.count(4, "KeyFrame id list"));
+  for (uint32_t& id : ids) id = in.get<uint32_t>("KeyFrame id list");
+}
+
+// Version 2's tail: the several-robot sections (counts 0 with one robot).
+void put_robot_sections(ByteWriter& w, const MapSnapshot& s) {
+  w.put(static_cast<uint32_t>(s.robots.size()));
+  for (const RobotMapSection& r : s.robots) {
+    w.put(r.last_keyframe_seq);
+    put_ids(w, r.received_keyframe_ids);
+    put_ids(w, r.inserted_keyframe_ids);
+  }
+  w.put(static_cast<uint32_t>(s.epochs.size()));
+  for (const MapEpochRecord& e : s.epochs) {
+    w.put(e.robot);
+    w.put(e.first_id);
+    w.put(e.group);
+    put_pose(w, e.T_group_epoch);
+  }
+  w.put(static_cast<uint32_t>(s.groups.size()));
+  for (const MapGroupRecord& g : s.groups) {
+    w.put(static_cast<uint8_t>(g.T_world_group ? 1 : 0));
+    put_pose(w, g.T_world_group.value_or(Eigen::Isometry3d::Identity()));
+    w.put(static_cast<uint8_t>(g.merged_away ? 1 : 0));
+  }
+}
+
+void get_robot_sections(ByteReader& in, MapSnapshot& s) {
+  s.robots.resize(in.count(8 + 4 + 4, "robot section"));
+  for (RobotMapSection& r : s.robots) {
+    r.last_keyframe_seq = in.get<uint64_t>("robot KeyFrame seq");
+    get_ids(in, r.received_keyframe_ids);
+    get_ids(in, r.inserted_keyframe_ids);
+  }
+  s.epochs.resize(in.count(4 + 4 + 4 + 96, "robot map"));
+  for (MapEpochRecord& e : s.epochs) {
+    e.robot = in.get<uint32_t>("robot map robot");
+    e.first_id = in.get<uint32_t>("robot map first id");
+    e.group = in.get<int32_t>("robot map group");
+    e.T_group_epoch = get_pose(in, "robot map pose");
+  }
+  s.groups.resize(in.count(1 + 96 + 1, "map group"));
+  for (MapGroupRecord& g : s.groups) {
+    const bool placed = in.get<uint8_t>("map group placed") != 0;
+    const Eigen::Isometry3d T = get_pose(in, "map group pose");
+    if (placed) g.T_world_group = T;
+    g.merged_away = in.get<uint8_t>("map group merged") != 0;
+  }
+  // Every map names a robot of the file and a group of it: nothing to resolve later.
+  for (const MapEpochRecord& e : s.epochs) {
+    if (e.robot >= s.robots.size())
+      throw std::runtime_error("a robot map names robot " + std::to_string(e.robot) + " of " +
+                               std::to_string(s.robots.size()));
+    if (e.group < 0 || static_cast<size_t>(e.group) >= s.groups.size())
+      throw std::runtime_error("a robot map names group " + std::to_string(e.group) + " of " +
+                               std::to_string(s.groups.size()));
+  }
+}
+
 [[noreturn]] void fail(const std::string& origin, const std::string& what) {
   throw std::runtime_error("map file '" + origin + "': " + what);
 }
@@ -164,10 +239,9 @@ std::vector<uint8_t> encode_map_file(const MapSnapshot& s) {
   }
   w.put(static_cast<uint32_t>(s.content.points.size()));
   for (const MapPointRecord& p : s.content.points) put_point(w, p);
-  for (const std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids}) {
-    w.put(static_cast<uint32_t>(ids->size()));
-    for (uint32_t id : *ids) w.put(id);
-  }
+  for (const std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids})
+    put_ids(w, *ids);
+  put_robot_sections(w, s);
   std::vector<uint8_t>& bytes = w.bytes();
   const uint64_t payload = bytes.size() - kHeaderBytes;
   const uint64_t checksum = fnv1a64(bytes.data() + kHeaderBytes, payload);
@@ -181,8 +255,8 @@ MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string&
   if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) fail(origin, "not an edge_slam map file (bad magic)");
   ByteReader header(data + 8, kHeaderBytes - 8);
   const uint32_t version = header.get<uint32_t>("version");
-  if (version != kMapFileVersion)
-    fail(origin, "unsupported map file version " + std::to_string(version) + " (expected " +
+  if (version != 1 && version != kMapFileVersion)
+    fail(origin, "unsupported map file version " + std::to_string(version) + " (expected 1 to " +
                      std::to_string(kMapFileVersion) + ")");
   header.get<uint32_t>("reserved");
   const uint64_t payload = header.get<uint64_t>("payload size");
@@ -206,10 +280,9 @@ MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string&
     }
     s.content.points.resize(in.count(kPointBytes, "map point"));
     for (MapPointRecord& p : s.content.points) p = get_point(in);
-    for (std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids}) {
-      ids->resize(in.count(4, "KeyFrame id list"));
-      for (uint32_t& id : *ids) id = in.get<uint32_t>("KeyFrame id list");
-    }
+    for (std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids})
+      get_ids(in, *ids);
+    if (version >= 2) get_robot_sections(in, s);
     if (in.remaining() != 0) throw std::runtime_error(std::to_string(in.remaining()) + " unread payload bytes");
   } catch (const std::runtime_error& e) {
     fail(origin, e.what());

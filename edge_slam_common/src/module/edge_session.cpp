@@ -376,32 +376,51 @@ void EdgeSession::reset_locked(int robot) {
   start_modules();
 }
 
-uint64_t EdgeSession::save_map(const std::string& path) const {
-  if (multi()) throw std::runtime_error("saving the Global-Map of several robots is not supported yet");
+std::vector<uint64_t> EdgeSession::save_map(const std::string& path) const {
   MapSnapshot snapshot;
+  std::vector<uint64_t> durable;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    const RobotState& rs = robots_[0];
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
     snapshot = snapshot_map(*map_);
-    // The contiguous seq, not the highest: a restored edge must not claim the gaps.
-    snapshot.last_keyframe_seq = rs.receipts.contiguous();
-    snapshot.received_keyframe_ids.assign(rs.seen_ids.begin(), rs.seen_ids.end());
-    std::sort(snapshot.received_keyframe_ids.begin(), snapshot.received_keyframe_ids.end());
-    snapshot.inserted_keyframe_ids = rs.inserted_ids;
+    for (const RobotState& rs : robots_) {
+      // The contiguous seq, not the highest: a restored edge must not claim the gaps.
+      RobotMapSection section{rs.receipts.contiguous(), {rs.seen_ids.begin(), rs.seen_ids.end()}, rs.inserted_ids};
+      std::sort(section.received_keyframe_ids.begin(), section.received_keyframe_ids.end());
+      durable.push_back(section.last_keyframe_seq);
+      snapshot.robots.push_back(std::move(section));
+    }
+    if (multi()) {  // where the maps are: under the map lock, as merges move KeyFrames under it
+      frames_.save_to(snapshot.epochs, snapshot.groups);
+    } else {  // one robot: version 1's fields, as before
+      snapshot.last_keyframe_seq = snapshot.robots[0].last_keyframe_seq;
+      snapshot.received_keyframe_ids = std::move(snapshot.robots[0].received_keyframe_ids);
+      snapshot.inserted_keyframe_ids = std::move(snapshot.robots[0].inserted_keyframe_ids);
+      snapshot.robots.clear();
+    }
   }
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     snapshot.culled_keyframe_ids = culled_ids_;
   }
   write_map_file(snapshot, path);  // no lock held: receiving and mapping go on meanwhile
-  return snapshot.last_keyframe_seq;
+  return durable;
 }
 
 void EdgeSession::load_map(const std::string& path) {
-  if (multi()) throw std::runtime_error("loading a Global-Map with several robots is not supported yet");
   // Read, check and build everything before touching the session, so a bad file changes nothing.
-  const MapSnapshot snapshot = read_map_file(path);
+  MapSnapshot snapshot = read_map_file(path);
+  const size_t file_robots = snapshot.robots.empty() ? 1 : snapshot.robots.size();
+  if (file_robots != robots_.size())
+    throw std::runtime_error("map file '" + path + "' holds the deliveries of " + std::to_string(file_robots) +
+                             " robot(s); this edge serves " + std::to_string(robots_.size()));
+  if (snapshot.robots.empty())
+    snapshot.robots.push_back(RobotMapSection{snapshot.last_keyframe_seq, snapshot.received_keyframe_ids,
+                                              snapshot.inserted_keyframe_ids});
+  RobotFrames frames(robots());
+  std::string error;
+  if (multi() && !frames.restore(snapshot.epochs, snapshot.groups, &error))
+    throw std::runtime_error("map file '" + path + "': " + error);
   MapObjects objects;
   try {
     objects = map_objects_from_snapshot(snapshot, camera_, pyramid_, vocabulary_.get());
@@ -409,7 +428,6 @@ void EdgeSession::load_map(const std::string& path) {
     throw std::runtime_error("map file '" + path + "': " + e.what());
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  RobotState& rs = robots_[0];
   stop_modules();
   {
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
@@ -418,29 +436,36 @@ void EdgeSession::load_map(const std::string& path) {
     // Points the edge made after this save may already sit in the mobile's Local-Map (sent in
     // an update) and come back in its KeyFrames: never hand their ids out again for new points.
     map_->reserve_ids(0, map_->next_map_point_id() + kPointIdGapAfterRestore);
+    if (multi()) frames_.restore(snapshot.epochs, snapshot.groups, nullptr);  // checked above
   }
-  // The restored KeyFrames and every id received before the save count as received: a
-  // resent copy is a duplicate. The accounting continues from the saved one.
-  rs.seen_ids = std::unordered_set<uint32_t>(snapshot.received_keyframe_ids.begin(),
-                                             snapshot.received_keyframe_ids.end());
-  rs.last_inserted_frame_id = 0;
-  for (const auto& kf : map_->keyframes()) {
-    rs.seen_ids.insert(kf->id());
-    rs.last_inserted_frame_id = std::max<uint64_t>(rs.last_inserted_frame_id, kf->frame_id());
-  }
-  rs.inserted_ids = snapshot.inserted_keyframe_ids;  // insertion order: the newest go in updates
-  rs.pending_points.clear();
-  rs.pending_order.clear();
+  for (size_t r = 0; r < robots_.size(); ++r) restore_robot(static_cast<int>(r), snapshot.robots[r]);
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;
     culled_links_.clear();  // not in the map file: their frames go through the mobile's chain
   }
-  rs.any_inserted = !map_->keyframes().empty();
-  rs.relocalization_sent = false;
-  rs.counters.last_seq = std::max(rs.counters.last_seq, snapshot.last_keyframe_seq);
-  rs.receipts.restore(snapshot.last_keyframe_seq);
   start_modules();
+}
+
+// The restored KeyFrames of the robot and every id it sent before the save count as received:
+// a resent copy is a duplicate. Its accounting continues from the saved one.
+void EdgeSession::restore_robot(int robot, const RobotMapSection& section) {
+  RobotState& rs = robots_[robot];
+  rs.seen_ids = std::unordered_set<uint32_t>(section.received_keyframe_ids.begin(), section.received_keyframe_ids.end());
+  rs.last_inserted_frame_id = 0;
+  rs.any_inserted = false;
+  for (const auto& kf : map_->keyframes()) {
+    if (multi() && robot_of_keyframe(kf->id()) != robot) continue;
+    rs.seen_ids.insert(kf->id());
+    rs.last_inserted_frame_id = std::max<uint64_t>(rs.last_inserted_frame_id, kf->frame_id());
+    rs.any_inserted = true;
+  }
+  rs.inserted_ids = section.inserted_keyframe_ids;  // insertion order: the newest go in updates
+  rs.pending_points.clear();
+  rs.pending_order.clear();
+  rs.relocalization_sent = false;
+  rs.counters.last_seq = std::max(rs.counters.last_seq, section.last_keyframe_seq);
+  rs.receipts.restore(section.last_keyframe_seq);
 }
 
 bool EdgeSession::wait_until_idle(double timeout_s) const {

@@ -72,6 +72,44 @@ bool RobotFrames::merge(int from, int into, const Eigen::Isometry3d& T_into_from
   return true;
 }
 
+void RobotFrames::save_to(std::vector<MapEpochRecord>& epochs, std::vector<MapGroupRecord>& groups) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  epochs.clear();
+  groups.clear();
+  for (size_t r = 0; r < epochs_.size(); ++r)
+    for (const Epoch& e : epochs_[r])
+      epochs.push_back(MapEpochRecord{static_cast<uint32_t>(r), e.first_id, e.group, e.T_group_epoch});
+  for (const Group& g : groups_) groups.push_back(MapGroupRecord{g.T_world_group, g.merged_away});
+}
+
+bool RobotFrames::restore(const std::vector<MapEpochRecord>& epochs, const std::vector<MapGroupRecord>& groups,
+                          std::string* error) {
+  const auto refuse = [error](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  std::vector<std::vector<Epoch>> by_robot(robots());
+  for (const MapEpochRecord& e : epochs) {
+    if (e.robot >= by_robot.size())
+      return refuse("a map of robot " + std::to_string(e.robot) + ", this edge serves " + std::to_string(robots()));
+    if (e.group < 0 || static_cast<size_t>(e.group) >= groups.size())
+      return refuse("a map in group " + std::to_string(e.group) + " of " + std::to_string(groups.size()));
+    auto& list = by_robot[e.robot];
+    if (!list.empty() && e.first_id <= list.back().first_id) return refuse("robot maps not in id order");
+    if (!keyframe_id_space(static_cast<int>(e.robot)).contains(e.first_id))
+      return refuse("a map of robot " + std::to_string(e.robot) + " starting at another robot's id");
+    list.push_back(Epoch{e.first_id, e.group, e.T_group_epoch});
+  }
+  for (size_t r = 0; r < by_robot.size(); ++r)
+    if (by_robot[r].empty()) return refuse("no map for robot " + std::to_string(r));
+  std::vector<Group> restored;
+  for (const MapGroupRecord& g : groups) restored.push_back(Group{g.T_world_group, g.merged_away});
+  std::lock_guard<std::mutex> lock(mutex_);
+  epochs_ = std::move(by_robot);
+  groups_ = std::move(restored);
+  return true;
+}
+
 void transform_record(KeyFrameRecord& r, const Eigen::Isometry3d& T) {
   r.T_wc = T * r.T_wc;
   const Eigen::Isometry3f Tf = T.cast<float>();

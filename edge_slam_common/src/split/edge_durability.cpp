@@ -32,9 +32,11 @@ RestoreResult EdgeDurability::restore(double now) {
   }
   try {
     session_.load_map(file);
-    durable_seq_ = session_.counters().received_seq;  // it came from the file: durable by definition
+    all_durable_as_received();  // it came from the file: durable by definition
+    std::string seqs;
+    for (int r = 0; r < session_.robots(); ++r) seqs += (r ? ", " : "") + std::to_string(durable_seq_[r].load());
     log_info("restored the Global-Map from " + file + ": " + std::to_string(session_.global_map()->num_keyframes()) +
-             " KeyFrames, KeyFrame seqs up to " + std::to_string(durable_seq_.load()));
+             " KeyFrames, KeyFrame seqs up to " + seqs + (session_.robots() > 1 ? " (per robot)" : ""));
     return RestoreResult::kRestored;
   } catch (const std::exception& e) {
     const std::string aside = file + ".corrupt-" + std::to_string(static_cast<long long>(now));
@@ -56,11 +58,12 @@ bool EdgeDurability::checkpoint(const char* why, double now, std::string* error)
   }
   bool ok = true;
   try {
-    const uint64_t durable = session_.save_map(params_.checkpoint_file);
-    for (uint64_t seen = durable_seq_.load(); durable > seen && !durable_seq_.compare_exchange_weak(seen, durable);) {
-    }
+    const std::vector<uint64_t> durable = session_.save_map(params_.checkpoint_file);
+    for (size_t r = 0; r < durable.size() && r < durable_seq_.size(); ++r)
+      for (uint64_t seen = durable_seq_[r].load(); durable[r] > seen && !durable_seq_[r].compare_exchange_weak(seen, durable[r]);) {
+      }
     ++checkpoints_;
-    log_debug(std::string(why) + " checkpoint: KeyFrame seqs up to " + std::to_string(durable) + " durable");
+    log_debug(std::string(why) + " checkpoint: robot 0's KeyFrame seqs up to " + std::to_string(durable.at(0)) + " durable");
   } catch (const std::exception& e) {
     ok = false;
     if (error) *error = e.what();
@@ -90,8 +93,16 @@ void EdgeDurability::load(const std::string& path) {
   const std::string source = path.empty() ? params_.checkpoint_file : path;
   if (source.empty()) throw std::runtime_error("no path given and no ~checkpoint_file set");
   session_.load_map(source);
-  durable_seq_ = source == params_.checkpoint_file ? session_.counters().received_seq : 0;
+  if (source == params_.checkpoint_file)
+    all_durable_as_received();
+  else
+    for (auto& seq : durable_seq_) seq = 0;
   boot_id_ = boot_ids_();
+}
+
+void EdgeDurability::all_durable_as_received() {
+  for (int r = 0; r < static_cast<int>(durable_seq_.size()); ++r)
+    durable_seq_[r] = r < session_.robots() ? session_.counters(r).received_seq : 0;
 }
 
 KeyFrameAck EdgeDurability::ack(int robot) {
@@ -101,7 +112,7 @@ KeyFrameAck EdgeDurability::ack(int robot) {
   a.boot_id = boot_id_;
   a.received_seq = c.received_seq;
   a.persistent = persistent();
-  a.durable_seq = durable_seq_;
+  a.durable_seq = durable_seq_[robot];
   a.mapped_seq = c.mapped_seq;
   a.mapper_busy_elsewhere = c.mapper_busy_elsewhere;
   last_acked_mapped_seq_[robot] = a.mapped_seq;

@@ -19,18 +19,6 @@ EdgeSystemSettings load_edge_system_settings(const ConfigMap& slam) {
   return s;
 }
 
-namespace {
-// Checkpoints hold one robot's deliveries (io/map_file.h): with several, persistence is off.
-DurabilityParams checked_durability(const EdgeSystemSettings& s) {
-  DurabilityParams d = s.durability;
-  if (s.session.robots > 1 && !d.checkpoint_file.empty()) {
-    log_warn("checkpoint_file '" + d.checkpoint_file + "' ignored: persistence of " +
-             std::to_string(s.session.robots) + " robots' maps is not supported yet (one robot only)");
-    d.checkpoint_file.clear();
-  }
-  return d;
-}
-}  // namespace
 
 EdgeSystem::EdgeSystem(EdgeSystemSettings settings, WallClock clock, EdgeDurability::BootIds boot_ids)
     : settings_(std::move(settings)),
@@ -38,7 +26,7 @@ EdgeSystem::EdgeSystem(EdgeSystemSettings settings, WallClock clock, EdgeDurabil
       recorder_(settings_.files, clock_),
       session_(std::make_unique<EdgeSession>(settings_.camera, settings_.orb.num_levels, settings_.orb.scale_factor,
                                              settings_.vocabulary, settings_.session)),
-      durability_(*session_, checked_durability(settings_), std::move(boot_ids)),
+      durability_(*session_, settings_.durability, std::move(boot_ids)),
       update_latency_by_robot_(static_cast<size_t>(session_->robots())),
       keyframe_latency_by_robot_(static_cast<size_t>(session_->robots())) {
   if (settings_.restore_on_start && durability_.persistent()) durability_.restore(clock_());

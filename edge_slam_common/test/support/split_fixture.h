@@ -70,6 +70,18 @@ inline MobileSession make_session(const MobileSessionParams& params = {}) {
                        RgbEncoding::kRgb);
 }
 
+// A mobile as robot `robot` tracking frames [first, last) of the fixture; the records it sent.
+inline std::vector<KeyFrameRecord> robot_keyframes(int robot, int first, int last) {
+  const RenderedSequence& seq = sequence();
+  MobileSessionParams params = paper_pacing();
+  params.robot_index = robot;
+  MobileSession mobile = make_session(params);
+  for (int i = first; i < last; ++i) mobile.track(seq.colors[i], seq.depths[i], i / 15.0);
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = mobile.outbox().try_pop()) sent.push_back(std::move(*r));
+  return sent;
+}
+
 // What the edge would send back: every KeyFrame received so far with all its points.
 inline MapUpdateRecord update_from(const std::vector<KeyFrameRecord>& sent, const PinholeCamera& camera) {
   const auto pyramid = std::make_shared<ScalePyramid>(ScalePyramid::make(8, 1.2f));

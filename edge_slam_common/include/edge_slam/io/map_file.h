@@ -2,10 +2,15 @@
 // Layout: magic "ESMAPBIN", u32 version, u32 zero, u64 payload size, u64 FNV-1a of the
 // payload, then the payload (little-endian; the id counters; KeyFrames with pose, camera,
 // features, descriptors, observations, parent, covisibility weights and loop edges; map
-// points; the KeyFrame accounting). Writing goes to a temporary file in the same folder which is then renamed over
+// points; the KeyFrame accounting; since version 2, with several mobiles, each robot's
+// deliveries and accounting and where each of its maps sits (module/robot_frames.h)). Version
+// 1 files (one robot) are still read. Writing goes to a temporary file in the same folder which is then renamed over
 // the target, so a crash mid-write leaves the previous file intact.
 #pragma once
+#include <Eigen/Geometry>
+
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -14,7 +19,27 @@
 
 namespace edge_slam {
 
-inline constexpr uint32_t kMapFileVersion = 1;
+inline constexpr uint32_t kMapFileVersion = 2;  // 2: the several-robot sections (1 still read)
+
+// One robot's deliveries on an edge serving several mobiles: as MapSnapshot's own fields are
+// for the one robot.
+struct RobotMapSection {
+  uint64_t last_keyframe_seq = 0;
+  std::vector<uint32_t> received_keyframe_ids, inserted_keyframe_ids;
+};
+// Where the maps are (module/robot_frames.h): robot `robot`'s KeyFrames from `first_id` on
+// were made in a map now in group `group`'s coordinates (at T_group_epoch) ...
+struct MapEpochRecord {
+  uint32_t robot = 0, first_id = 0;
+  int32_t group = 0;
+  Eigen::Isometry3d T_group_epoch = Eigen::Isometry3d::Identity();
+};
+// ... and group k sits in the world at T_world_group (unset: not joined with robot 0's first
+// map), or was merged into another.
+struct MapGroupRecord {
+  std::optional<Eigen::Isometry3d> T_world_group;
+  bool merged_away = false;
+};
 
 struct MapSnapshot {
   // Every KeyFrame (observations of all its points, parent, covisibility weights) and every
@@ -26,6 +51,11 @@ struct MapSnapshot {
   // The edge's KeyFrame accounting, so a restarted edge still de-duplicates and can account
   // for every KeyFrame the mobile sent: ids received, inserted, and culled since.
   std::vector<uint32_t> received_keyframe_ids, inserted_keyframe_ids, culled_keyframe_ids;
+  // Several mobiles (empty with one, whose deliveries are the fields above): robot r's
+  // deliveries in robots[r], and every robot's maps and their groups.
+  std::vector<RobotMapSection> robots;
+  std::vector<MapEpochRecord> epochs;
+  std::vector<MapGroupRecord> groups;
 };
 
 std::vector<uint8_t> encode_map_file(const MapSnapshot& snapshot);

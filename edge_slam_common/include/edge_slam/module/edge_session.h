@@ -118,8 +118,10 @@ class EdgeSession {
   // writes outside them (atomically); load_map reads and checks the file first, then replaces
   // the map, the KeyFrame database and the de-duplication state, restarting the mapping
   // threads. Both throw std::runtime_error with the reason; a failed load keeps the old map.
-  // save_map returns the received seq the file holds everything up to (what is now durable).
-  uint64_t save_map(const std::string& path) const;
+  // save_map returns, per robot, the received seq the file holds everything up to (what is now
+  // durable). With several robots the file holds each robot's deliveries and where its maps are
+  // (merges included); load_map refuses a file of another number of robots.
+  std::vector<uint64_t> save_map(const std::string& path) const;
   void load_map(const std::string& path);
 
   EdgeCounters counters(int robot = 0) const;
@@ -163,6 +165,7 @@ class EdgeSession {
   };
   void reset_locked(int robot);
   void clear_robot(RobotState& rs);
+  void restore_robot(int robot, const RobotMapSection& section);  // load_map, under mutex_
   MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs, int robot) const;
   bool multi() const { return robots_.size() > 1; }
 

@@ -15,8 +15,10 @@
 
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "edge_slam/io/map_file.h"
 #include "edge_slam/io/wire_records.h"
 
 namespace edge_slam {
@@ -43,6 +45,12 @@ class RobotFrames {
   bool merge(int from, int into, const Eigen::Isometry3d& T_into_from);
   // Where the group's coordinates sit in the world (unset: not joined with robot 0's first map).
   std::optional<Eigen::Isometry3d> T_world_group(int group) const;
+  // Persistence (io/map_file.h): every robot's maps and their groups, and back. restore()
+  // checks first (each robot of robots() has its first map, ids ascending, groups known) and
+  // changes nothing when they do not fit, with the reason in *error.
+  void save_to(std::vector<MapEpochRecord>& epochs, std::vector<MapGroupRecord>& groups) const;
+  bool restore(const std::vector<MapEpochRecord>& epochs, const std::vector<MapGroupRecord>& groups,
+               std::string* error);
 
  private:
   struct Epoch {

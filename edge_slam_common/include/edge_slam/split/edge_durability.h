@@ -59,14 +59,17 @@ class EdgeDurability {
   bool mapping_progressed(int robot = 0) const;
 
   uint64_t boot_id() const { return boot_id_; }
-  uint64_t durable_seq() const { return durable_seq_; }
+  // Robot `robot`'s KeyFrame seqs up to this one are in the last checkpoint.
+  uint64_t durable_seq(int robot = 0) const { return valid_robot_index(robot) ? durable_seq_[robot].load() : 0; }
   uint64_t checkpoints() const { return checkpoints_; }
 
  private:
   EdgeSession& session_;
   DurabilityParams params_;
   BootIds boot_ids_;
-  std::atomic<uint64_t> boot_id_{0}, durable_seq_{0}, checkpoints_{0};
+  std::atomic<uint64_t> boot_id_{0}, checkpoints_{0};
+  std::array<std::atomic<uint64_t>, kMaxRobots> durable_seq_{};  // per robot
+  void all_durable_as_received();  // the session's state came from the checkpoint file
   std::array<std::atomic<uint64_t>, kMaxRobots> last_acked_mapped_seq_{};
   std::array<std::atomic<bool>, kMaxRobots> last_acked_busy_elsewhere_{};
   std::atomic<bool> checkpointing_{false};
