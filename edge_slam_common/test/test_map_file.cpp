@@ -130,8 +130,8 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
   bytes[0] = 'X';
   expect_refused(bytes, "magic");
   bytes = good;
-  bytes[8] = 2;
-  expect_refused(bytes, "version 2");
+  bytes[8] = 3;
+  expect_refused(bytes, "version 3");
   bytes = good;
   bytes[good.size() / 2] ^= 0x40;
   expect_refused(bytes, "checksum");
@@ -151,6 +151,48 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
   expect_refused(bytes, "does not fit");
 
   EXPECT_THROW(read_map_file("/nonexistent/map.esmap"), std::runtime_error);
+}
+
+TEST(MapFile, AVersionOneFileIsStillRead) {
+  const SavedMap a;
+  std::vector<uint8_t> bytes = encode_map_file(snapshot_map(a.map));
+  // Version 1 had no several-robot tail (three zero counts with one robot): drop it.
+  bytes.resize(bytes.size() - 12);
+  bytes[8] = 1;
+  const uint64_t payload = bytes.size() - 32;
+  std::memcpy(bytes.data() + 16, &payload, 8);
+  reseal(bytes);
+  const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v1.esmap");
+  EXPECT_EQ(loaded.content.keyframes.size(), 6u);
+  EXPECT_TRUE(loaded.robots.empty());
+}
+
+TEST(MapFile, SeveralRobotsSectionsRoundTripAndAreChecked) {
+  const SavedMap a;
+  MapSnapshot saved = snapshot_map(a.map);
+  saved.robots = {RobotMapSection{5, {1, 2, 3}, {1, 3}}, RobotMapSection{9, {16777216}, {16777216}}};
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(1, 2, 3);
+  saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, T}};
+  saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
+  const std::vector<uint8_t> good = encode_map_file(saved);
+  const MapSnapshot loaded = decode_map_file(good.data(), good.size(), "test.esmap");
+  ASSERT_EQ(loaded.robots.size(), 2u);
+  EXPECT_EQ(loaded.robots[1].last_keyframe_seq, 9u);
+  EXPECT_EQ(loaded.robots[0].received_keyframe_ids, saved.robots[0].received_keyframe_ids);
+  EXPECT_EQ(loaded.robots[0].inserted_keyframe_ids, saved.robots[0].inserted_keyframe_ids);
+  ASSERT_EQ(loaded.epochs.size(), 2u);
+  EXPECT_EQ(loaded.epochs[1].first_id, 16777216u);
+  EXPECT_TRUE(loaded.epochs[1].T_group_epoch.isApprox(T));
+  ASSERT_EQ(loaded.groups.size(), 2u);
+  EXPECT_TRUE(loaded.groups[0].T_world_group);
+  EXPECT_FALSE(loaded.groups[1].T_world_group);
+  EXPECT_TRUE(loaded.groups[1].merged_away);
+
+  MapSnapshot bad = saved;
+  bad.epochs[1].group = 2;  // no such group
+  const std::vector<uint8_t> bytes = encode_map_file(bad);
+  expect_refused(bytes, "names group 2");
 }
 
 TEST(MapFile, SnapshotForAnotherCameraIsRefusedOnRestore) {
