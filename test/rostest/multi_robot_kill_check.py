@@ -3,7 +3,8 @@
 the two-robot synthetic sequence; once robot 2 has mapped 10 s of its walk, its mobile nodelet
 manager, its nodelet loader and its player are SIGKILLed (no clean shutdown, as a robot that
 loses power). Robot 1 must not notice: it keeps accepting Local-Map updates (at least 2 after
-the kill), its final trajectory stays under 2 cm and its poses as tracked under 5 cm, every
+the kill), its final trajectory stays under 2 cm and its poses as tracked under 20 cm (loosely,
+as multi_robot_check.py says why), every
 KeyFrame it made is accounted for on the edge; robot 2's map stays on the edge (what it
 inserted is in the Global-Map or culled) and the edge still answers for it."""
 import sys
@@ -12,7 +13,7 @@ import unittest
 import rospy
 import rostest
 
-from multi_test_support import MultiRobotRun, kill_node
+from multi_test_support import TRACKED_BOUND_M, MultiRobotRun, kill_node
 from split_test_support import node_running
 
 KILL_AFTER_S = 10.0  # of robot 2's data
@@ -52,7 +53,7 @@ class MultiRobotKillTest(unittest.TestCase):
         self.assertGreaterEqual(mobile.accepted - at_kill, 2, 'robot 1 keeps getting updates after robot 2 died')
         self.assertLess(ate['ate_rmse_m'], 0.02, "robot 1's final trajectory")
         self.assertGreater(final[1]['anchored'], 0.9 * final[1]['frames'], 'frames anchored on the Global-Map')
-        self.assertLess(online, 0.05, "robot 1's poses as tracked")
+        self.assertLess(online, TRACKED_BOUND_M, "robot 1's poses as tracked")
         made = set(survivor.delivery_status().created_ids)
         self.assertEqual(sorted(made - set(status['robot1'].received_ids)), [], 'robot 1: KeyFrames the edge never received')
         self.assertGreater(len(lost.inserted_ids), 0)
