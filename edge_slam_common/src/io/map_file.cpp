@@ -6,10 +6,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include "byte_codec.h"
+#include "edge_slam/io/file_bytes.h"
 #include "edge_slam/io/record_checks.h"
 
 namespace edge_slam {
@@ -319,13 +319,7 @@ void write_map_file(const MapSnapshot& s, const std::string& path) {
 }
 
 MapSnapshot read_map_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) fail(path, "cannot open for reading");
-  const std::streamoff size = in.tellg();
-  if (size < 0) fail(path, "cannot determine the file size");
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  in.seekg(0);
-  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) fail(path, "read error");
+  const std::vector<uint8_t> bytes = read_file_bytes(path, "map");
   return decode_map_file(bytes.data(), bytes.size(), path);
 }
 

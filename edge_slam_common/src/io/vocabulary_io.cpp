@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "edge_slam/feature/descriptor_distance.h"
+#include "edge_slam/io/file_bytes.h"
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the binary vocabulary format is little-endian");
 
@@ -41,17 +42,6 @@ uint64_t fnv1a(const uint8_t* data, size_t size, uint64_t hash = 0xcbf29ce484222
 uint64_t binary_checksum(const std::vector<uint8_t>& file) {
   const uint64_t header_hash = fnv1a(file.data() + sizeof(kMagic), kChecksumOffset - sizeof(kMagic));
   return fnv1a(file.data() + kHeaderBytes, file.size() - kHeaderBytes, header_hash);
-}
-
-std::vector<uint8_t> read_whole_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) fail(path, "cannot open for reading");
-  const std::streamoff size = in.tellg();
-  if (size < 0) fail(path, "cannot determine the file size");
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  in.seekg(0);
-  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) fail(path, "read error");
-  return bytes;
 }
 
 void write_whole_file(const std::string& path, const void* data, size_t size) {
@@ -300,7 +290,7 @@ void save_vocabulary_text(const BowVocabulary& vocabulary, const std::string& pa
 }
 
 BowVocabulary load_vocabulary(const std::string& path) {
-  const std::vector<uint8_t> file = read_whole_file(path);
+  const std::vector<uint8_t> file = read_file_bytes(path, "vocabulary");
   return load_vocabulary_from_bytes(file.data(), file.size(), path);
 }
 
