@@ -169,12 +169,19 @@ class EdgeNodelet : public nodelet::Nodelet {
   // a placement changes only at a merge or a robot's reset; re-sent then).
   void publish_world_frames() {
     if (mobiles_.empty()) return;
+    // Sent again when a robot is placed or a placement moved (robot frames follow their
+    // anchors after each loop correction: RobotFrames::follow_anchors).
     std::vector<geometry_msgs::TransformStamped> placed;
-    for (int r = 0; r < system_->robots(); ++r)
-      if (const auto T = system_->T_world_robot(r))
-        placed.push_back(edge_slam::transform_to_message(*T, ros::Time::now(), "world", mobiles_[r] + "/map"));
-    if (placed.size() != world_frames_sent_) tf_static_.sendTransform(placed);
-    world_frames_sent_ = placed.size();
+    std::vector<std::optional<Eigen::Isometry3d>> now(system_->robots());
+    bool moved = world_frames_sent_.size() != now.size();
+    for (int r = 0; r < system_->robots(); ++r) {
+      now[r] = system_->T_world_robot(r);
+      if (!now[r]) continue;
+      placed.push_back(edge_slam::transform_to_message(*now[r], ros::Time::now(), "world", mobiles_[r] + "/map"));
+      moved = moved || !world_frames_sent_[r] || !world_frames_sent_[r]->isApprox(*now[r], 1e-4);
+    }
+    if (moved && !placed.empty()) tf_static_.sendTransform(placed);
+    world_frames_sent_ = std::move(now);
   }
 
   void publish_merges() {
@@ -193,7 +200,6 @@ class EdgeNodelet : public nodelet::Nodelet {
       m.matches = e.matches;
       m.transform = edge_slam::transform_to_message(e.T_into_from, ros::Time(), "", "").transform;
       merge_pub_.publish(m);
-      world_frames_sent_ = static_cast<size_t>(-1);  // placements changed: send them again
     }
     publish_world_frames();
   }
@@ -256,7 +262,7 @@ class EdgeNodelet : public nodelet::Nodelet {
   edge_slam::MapDisplay display_;
   ros::Publisher path_pub_, loop_pub_, stats_pub_, merge_pub_;
   tf2_ros::StaticTransformBroadcaster tf_static_;
-  size_t world_frames_sent_ = 0;
+  std::vector<std::optional<Eigen::Isometry3d>> world_frames_sent_;  // per robot, as last sent on /tf_static
   ros::ServiceServer status_srv_, save_srv_, load_srv_;
   ros::Timer update_timer_;
   ros::WallTimer display_timer_, stats_timer_, ack_timer_, progress_timer_, checkpoint_timer_;

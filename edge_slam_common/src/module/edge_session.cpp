@@ -87,6 +87,12 @@ void EdgeSession::start_modules() {
   if (multi() && modules->loop()) {  // one robot: one group, the paper's loop closing as it was
     modules->loop()->group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
     modules->loop()->on_merge = [this](int from, int into, const Eigen::Isometry3d& T) { frames_.merge(from, into, T); };
+    modules->loop()->on_map_moved = [this] {
+      std::map<uint32_t, Eigen::Isometry3d> poses;
+      for (const auto& k : map_->keyframes())
+        if (!k->is_bad()) poses.emplace(k->id(), k->T_cw());
+      frames_.follow_anchors(poses);
+    };
   }
   modules->start();
   modules_ = std::move(modules);

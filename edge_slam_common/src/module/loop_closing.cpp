@@ -125,6 +125,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   LoopCorrectionReport report;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
+    if (on_map_moved) on_map_moved();
     if (merge) {
       // T_cw_corrected is the current camera seen from the loop side.
       const Eigen::Isometry3d T_loop_current = match.T_cw_corrected.inverse() * kf->T_cw();
@@ -134,6 +135,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       if (on_merge) on_merge(from, into, T_into_from);
     }
     report = correct_loop(*map_, kf, match, params_.correction);
+    if (on_map_moved) on_map_moved();
   }
   if (local_mapping_) local_mapping_->release();
   if (report.group_keyframes == 0 && !merge) {
@@ -215,7 +217,9 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
   int propagated = 0;
   if (paused) {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
+    if (on_map_moved) on_map_moved();
     propagated = apply_full_ba_result(*map_, result);
+    if (on_map_moved) on_map_moved();
   }
   if (local_mapping_) local_mapping_->release();
   const double ms = ms_since(t0);

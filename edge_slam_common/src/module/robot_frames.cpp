@@ -64,12 +64,38 @@ bool RobotFrames::merge(int from, int into, const Eigen::Isometry3d& T_into_from
       if (e.group == from) {
         e.group = into;
         e.T_group_epoch = T_into_from * e.T_group_epoch;
+        if (e.anchor) e.anchor->T_cw = e.anchor->T_cw * T_into_from.inverse();  // moved with its map
       }
   // The world stays where it was: if only the moved group was placed, the host now is too.
   if (!groups_[into].T_world_group && groups_[from].T_world_group)
     groups_[into].T_world_group = *groups_[from].T_world_group * T_into_from.inverse();
   groups_[from].merged_away = true;
   return true;
+}
+
+void RobotFrames::follow_anchors(const std::map<uint32_t, Eigen::Isometry3d>& T_cw) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (size_t r = 0; r < epochs_.size(); ++r) {
+    auto& list = epochs_[r];
+    for (size_t k = 0; k < list.size(); ++k) {
+      Epoch& e = list[k];
+      const auto now = e.anchor ? T_cw.find(e.anchor->id) : T_cw.end();
+      if (now == T_cw.end()) {
+        const uint32_t end = k + 1 < list.size() ? list[k + 1].first_id : keyframe_id_space(static_cast<int>(r)).end;
+        const auto oldest = T_cw.lower_bound(e.first_id);
+        e.anchor.reset();
+        if (oldest != T_cw.end() && oldest->first < end) e.anchor = Anchor{oldest->first, oldest->second};
+        continue;
+      }
+      // The anchor's pose in the robot's frame, T_cw * T_group_robot, stays what it was.
+      const Eigen::Isometry3d M = now->second.inverse() * e.anchor->T_cw;
+      e.T_group_epoch = M * e.T_group_epoch;
+      e.anchor->T_cw = now->second;
+      // World = robot 0's first map: T_world_group * T_group_epoch of that map stays put.
+      if (r == 0 && k == 0 && groups_[e.group].T_world_group)
+        groups_[e.group].T_world_group = *groups_[e.group].T_world_group * M.inverse();
+    }
+  }
 }
 
 void RobotFrames::save_to(std::vector<MapEpochRecord>& epochs, std::vector<MapGroupRecord>& groups) const {

@@ -69,6 +69,10 @@ class LoopClosing {
   // no lock but leaf locks. Unset: one group, no merges (one robot).
   std::function<int(uint32_t kf_id)> group_of;
   std::function<void(int from, int into, const Eigen::Isometry3d& T_into_from)> on_merge;
+  // Runs with Map::update_mutex() held before and after each change of the map's geometry by
+  // loop closing (a merge, a loop correction, a full BA applied): the owner follows the moves
+  // (several robots: RobotFrames::follow_anchors).
+  std::function<void()> on_map_moved;
 
   void start();
   void shutdown(bool drain = true);  // also waits for a running full BA

@@ -13,6 +13,7 @@
 #pragma once
 #include <Eigen/Geometry>
 
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -45,6 +46,15 @@ class RobotFrames {
   bool merge(int from, int into, const Eigen::Isometry3d& T_into_from);
   // Where the group's coordinates sit in the world (unset: not joined with robot 0's first map).
   std::optional<Eigen::Isometry3d> T_world_group(int group) const;
+  // Each robot's frame stays attached to the oldest KeyFrame of its map in the Global-Map (its
+  // anchor; kept while it stays in the map): after the Global-Map moved under it (a loop
+  // correction, a full BA), T_group_robot follows the anchor so that the anchor keeps its pose in
+  // the robot's frame, and the world (robot 0's first map) follows robot 0's first anchor. Else
+  // an optimisation holding another robot's KeyFrame fixed (a loop between two robots' maps)
+  // shifts a robot's whole map, and each update to it afterwards makes its pose jump.
+  // T_cw: every KeyFrame's pose in its group's coordinates, by id. Epochs without an anchor
+  // (new, or theirs left the map) take their oldest KeyFrame at its pose now.
+  void follow_anchors(const std::map<uint32_t, Eigen::Isometry3d>& T_cw);
   // Persistence (io/map_file.h): every robot's maps and their groups, and back. restore()
   // checks first (each robot of robots() has its first map, ids ascending, groups known) and
   // changes nothing when they do not fit, with the reason in *error.
@@ -53,10 +63,15 @@ class RobotFrames {
                std::string* error);
 
  private:
+  struct Anchor {
+    uint32_t id;
+    Eigen::Isometry3d T_cw;  // in the group's coordinates, when last followed
+  };
   struct Epoch {
     uint32_t first_id;  // KeyFrames of this robot from this id on
     int group;
     Eigen::Isometry3d T_group_epoch;
+    std::optional<Anchor> anchor = std::nullopt;
   };
   struct Group {
     std::optional<Eigen::Isometry3d> T_world_group;
