@@ -130,8 +130,8 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
   bytes[0] = 'X';
   expect_refused(bytes, "magic");
   bytes = good;
-  bytes[8] = 3;
-  expect_refused(bytes, "version 3");
+  bytes[8] = 4;
+  expect_refused(bytes, "version 4");
   bytes = good;
   bytes[good.size() / 2] ^= 0x40;
   expect_refused(bytes, "checksum");
@@ -156,8 +156,8 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
 TEST(MapFile, AVersionOneFileIsStillRead) {
   const SavedMap a;
   std::vector<uint8_t> bytes = encode_map_file(snapshot_map(a.map));
-  // Version 1 had no several-robot tail (three zero counts with one robot): drop it.
-  bytes.resize(bytes.size() - 12);
+  // Version 1 had no several-robot tail nor merge history (four zero counts with one robot): drop them.
+  bytes.resize(bytes.size() - 16);
   bytes[8] = 1;
   const uint64_t payload = bytes.size() - 32;
   std::memcpy(bytes.data() + 16, &payload, 8);
@@ -165,6 +165,24 @@ TEST(MapFile, AVersionOneFileIsStillRead) {
   const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v1.esmap");
   EXPECT_EQ(loaded.content.keyframes.size(), 6u);
   EXPECT_TRUE(loaded.robots.empty());
+}
+
+TEST(MapFile, AVersionTwoFileIsReadWithoutAMergeHistory) {
+  const SavedMap a;
+  MapSnapshot saved = snapshot_map(a.map);
+  saved.robots = {RobotMapSection{5, {1}, {1}}, RobotMapSection{9, {16777216}, {16777216}}};
+  saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, Eigen::Isometry3d::Identity()}};
+  saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
+  std::vector<uint8_t> bytes = encode_map_file(saved);
+  bytes.resize(bytes.size() - 4);  // version 2 ended with the groups: no merge count
+  bytes[8] = 2;
+  const uint64_t payload = bytes.size() - 32;
+  std::memcpy(bytes.data() + 16, &payload, 8);
+  reseal(bytes);
+  const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v2.esmap");
+  EXPECT_EQ(loaded.robots.size(), 2u);
+  EXPECT_EQ(loaded.groups.size(), 2u);
+  EXPECT_TRUE(loaded.merges.empty());
 }
 
 TEST(MapFile, SeveralRobotsSectionsRoundTripAndAreChecked) {
@@ -175,6 +193,7 @@ TEST(MapFile, SeveralRobotsSectionsRoundTripAndAreChecked) {
   T.translation() = Eigen::Vector3d(1, 2, 3);
   saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, T}};
   saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
+  saved.merges = {MapMergeRecord{16777220, 4, 1, 0, 87, T}};
   const std::vector<uint8_t> good = encode_map_file(saved);
   const MapSnapshot loaded = decode_map_file(good.data(), good.size(), "test.esmap");
   ASSERT_EQ(loaded.robots.size(), 2u);
@@ -188,11 +207,20 @@ TEST(MapFile, SeveralRobotsSectionsRoundTripAndAreChecked) {
   EXPECT_TRUE(loaded.groups[0].T_world_group);
   EXPECT_FALSE(loaded.groups[1].T_world_group);
   EXPECT_TRUE(loaded.groups[1].merged_away);
+  ASSERT_EQ(loaded.merges.size(), 1u);
+  EXPECT_EQ(loaded.merges[0].keyframe, 16777220u);
+  EXPECT_EQ(loaded.merges[0].loop_keyframe, 4u);
+  EXPECT_EQ(loaded.merges[0].group_from, 1);
+  EXPECT_EQ(loaded.merges[0].group_into, 0);
+  EXPECT_EQ(loaded.merges[0].matches, 87);
+  EXPECT_TRUE(loaded.merges[0].T_into_from.isApprox(T));
 
   MapSnapshot bad = saved;
   bad.epochs[1].group = 2;  // no such group
-  const std::vector<uint8_t> bytes = encode_map_file(bad);
-  expect_refused(bytes, "names group 2");
+  expect_refused(encode_map_file(bad), "names group 2");
+  bad = saved;
+  bad.merges[0].group_into = 5;
+  expect_refused(encode_map_file(bad), "a merge names group 5");
 }
 
 TEST(MapFile, SnapshotForAnotherCameraIsRefusedOnRestore) {

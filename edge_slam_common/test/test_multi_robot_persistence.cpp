@@ -90,6 +90,12 @@ TEST(MultiRobotPersistence, ARestoredEdgeHasEveryRobotsMapDeliveriesAndPlacement
   ASSERT_TRUE(after.placement(1).T_world_robot) << "the merge survives the restart";
   EXPECT_LT(distance(*after.placement(1).T_world_robot, *before.placement(1).T_world_robot), 1e-9);
   EXPECT_EQ(after.frames().group_of(w.robot1.front().id), after.frames().group_of(w.robot0.front().id));
+  // The merge history too: a restarted edge still reports the merge made before it.
+  ASSERT_EQ(after.merges().size(), 1u);
+  EXPECT_EQ(after.merges()[0].current_kf_id, before.merges()[0].current_kf_id);
+  EXPECT_EQ(after.merges()[0].loop_kf_id, before.merges()[0].loop_kf_id);
+  EXPECT_EQ(after.merges()[0].matches, before.merges()[0].matches);
+  EXPECT_LT(distance(after.merges()[0].T_into_from, before.merges()[0].T_into_from), 1e-9);
 
   // A KeyFrame robot 1 sent before the save comes again (the mobile resends what was not
   // durable): a duplicate, counted for robot 1; the next new ones go in.

@@ -160,6 +160,36 @@ void get_ids(ByteReader& in, std::vector<uint32_t>& ids) {
   for (uint32_t& id : ids) id = in.get<uint32_t>("KeyFrame id list");
 }
 
+// Version 3's tail: the merge history.
+void put_merges(ByteWriter& w, const MapSnapshot& s) {
+  w.put(static_cast<uint32_t>(s.merges.size()));
+  for (const MapMergeRecord& m : s.merges) {
+    w.put(m.keyframe);
+    w.put(m.loop_keyframe);
+    w.put(m.group_from);
+    w.put(m.group_into);
+    w.put(m.matches);
+    put_pose(w, m.T_into_from);
+  }
+}
+
+void get_merges(ByteReader& in, MapSnapshot& s) {
+  s.merges.resize(in.count(4 + 4 + 4 + 4 + 4 + 96, "merge"));
+  for (MapMergeRecord& m : s.merges) {
+    m.keyframe = in.get<uint32_t>("merge KeyFrame");
+    m.loop_keyframe = in.get<uint32_t>("merge loop KeyFrame");
+    m.group_from = in.get<int32_t>("merge group from");
+    m.group_into = in.get<int32_t>("merge group into");
+    m.matches = in.get<int32_t>("merge matches");
+    m.T_into_from = get_pose(in, "merge pose");
+  }
+  // A merge joins two groups of the file (none of them exist with one robot).
+  for (const MapMergeRecord& m : s.merges)
+    for (int32_t g : {m.group_from, m.group_into})
+      if (g < 0 || static_cast<size_t>(g) >= s.groups.size())
+        throw std::runtime_error("a merge names group " + std::to_string(g) + " of " + std::to_string(s.groups.size()));
+}
+
 // Version 2's tail: the several-robot sections (counts 0 with one robot).
 void put_robot_sections(ByteWriter& w, const MapSnapshot& s) {
   w.put(static_cast<uint32_t>(s.robots.size()));
@@ -242,6 +272,7 @@ std::vector<uint8_t> encode_map_file(const MapSnapshot& s) {
   for (const std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids})
     put_ids(w, *ids);
   put_robot_sections(w, s);
+  put_merges(w, s);
   std::vector<uint8_t>& bytes = w.bytes();
   const uint64_t payload = bytes.size() - kHeaderBytes;
   const uint64_t checksum = fnv1a64(bytes.data() + kHeaderBytes, payload);
@@ -255,7 +286,7 @@ MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string&
   if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) fail(origin, "not an edge_slam map file (bad magic)");
   ByteReader header(data + 8, kHeaderBytes - 8);
   const uint32_t version = header.get<uint32_t>("version");
-  if (version != 1 && version != kMapFileVersion)
+  if (version < 1 || version > kMapFileVersion)
     fail(origin, "unsupported map file version " + std::to_string(version) + " (expected 1 to " +
                      std::to_string(kMapFileVersion) + ")");
   header.get<uint32_t>("reserved");
@@ -283,6 +314,7 @@ MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string&
     for (std::vector<uint32_t>* ids : {&s.received_keyframe_ids, &s.inserted_keyframe_ids, &s.culled_keyframe_ids})
       get_ids(in, *ids);
     if (version >= 2) get_robot_sections(in, s);
+    if (version >= 3) get_merges(in, s);
     if (in.remaining() != 0) throw std::runtime_error(std::to_string(in.remaining()) + " unread payload bytes");
   } catch (const std::runtime_error& e) {
     fail(origin, e.what());

@@ -398,6 +398,9 @@ std::vector<uint64_t> EdgeSession::save_map(const std::string& path) const {
     }
     if (multi()) {  // where the maps are: under the map lock, as merges move KeyFrames under it
       frames_.save_to(snapshot.epochs, snapshot.groups);
+      for (const MergeEvent& e : merges_locked())
+        snapshot.merges.push_back(MapMergeRecord{e.current_kf_id, e.loop_kf_id, e.group_from, e.group_into, e.matches,
+                                                 e.T_into_from});
     } else {  // one robot: version 1's fields, as before
       snapshot.last_keyframe_seq = snapshot.robots[0].last_keyframe_seq;
       snapshot.received_keyframe_ids = std::move(snapshot.robots[0].received_keyframe_ids);
@@ -445,6 +448,17 @@ void EdgeSession::load_map(const std::string& path) {
     if (multi()) frames_.restore(snapshot.epochs, snapshot.groups, nullptr);  // checked above
   }
   for (size_t r = 0; r < robots_.size(); ++r) restore_robot(static_cast<int>(r), snapshot.robots[r]);
+  merges_loaded_.clear();
+  for (const MapMergeRecord& m : snapshot.merges) {
+    MergeEvent e;
+    e.current_kf_id = m.keyframe;
+    e.loop_kf_id = m.loop_keyframe;
+    e.group_from = m.group_from;
+    e.group_into = m.group_into;
+    e.matches = m.matches;
+    e.T_into_from = m.T_into_from;
+    merges_loaded_.push_back(e);
+  }
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;
@@ -502,8 +516,16 @@ std::vector<LoopEvent> EdgeSession::loops() const {
   return m->loop() ? m->loop()->loops() : std::vector<LoopEvent>{};
 }
 std::vector<MergeEvent> EdgeSession::merges() const {
-  const auto m = modules();
-  return m->loop() ? m->loop()->merges() : std::vector<MergeEvent>{};
+  std::lock_guard<std::mutex> lock(mutex_);
+  return merges_locked();
+}
+std::vector<MergeEvent> EdgeSession::merges_locked() const {
+  std::vector<MergeEvent> all = merges_loaded_;
+  if (modules_ && modules_->loop()) {
+    const std::vector<MergeEvent> live = modules_->loop()->merges();
+    all.insert(all.end(), live.begin(), live.end());
+  }
+  return all;
 }
 
 ModuleFigures EdgeSession::module_figures() const {

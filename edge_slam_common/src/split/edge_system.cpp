@@ -30,6 +30,13 @@ EdgeSystem::EdgeSystem(EdgeSystemSettings settings, WallClock clock, EdgeDurabil
       update_latency_by_robot_(static_cast<size_t>(session_->robots())),
       keyframe_latency_by_robot_(static_cast<size_t>(session_->robots())) {
   if (settings_.restore_on_start && durability_.persistent()) durability_.restore(clock_());
+  rebase_announcements();
+}
+
+void EdgeSystem::rebase_announcements() {
+  std::lock_guard<std::mutex> lock(announce_mutex_);
+  loops_announced_ = session_->loops().size();
+  merges_announced_ = session_->merges().size();
 }
 
 EdgeSystem::~EdgeSystem() {
@@ -129,7 +136,9 @@ void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double d
 }
 
 std::vector<std::string> EdgeSystem::new_loops(double data_now) {
+  std::lock_guard<std::mutex> lock(announce_mutex_);
   const std::vector<LoopEvent> loops = session_->loops();
+  if (loops.size() < loops_announced_) loops_announced_ = 0;
   std::vector<std::string> lines;
   for (size_t i = loops_announced_; i < loops.size(); ++i) {
     lines.push_back("loop closed: KeyFrame " + std::to_string(loops[i].current_kf_id) + " <-> KeyFrame " +
@@ -145,7 +154,9 @@ std::vector<std::string> EdgeSystem::new_loops(double data_now) {
 }
 
 std::vector<MergeEvent> EdgeSystem::new_merges(double data_now) {
+  std::lock_guard<std::mutex> lock(announce_mutex_);
   const std::vector<MergeEvent> merges = session_->merges();
+  if (merges.size() < merges_announced_) merges_announced_ = 0;
   std::vector<MergeEvent> fresh(merges.begin() + static_cast<long>(std::min(merges_announced_, merges.size())),
                                 merges.end());
   for (const MergeEvent& m : fresh) {
@@ -178,6 +189,7 @@ bool EdgeSystem::load_map(const std::string& path, std::string* message) {
     *message = e.what();
     return false;
   }
+  rebase_announcements();
   const std::string source = path.empty() ? durability_.params().checkpoint_file : path;
   *message = "Global-Map loaded from " + source + ": " + std::to_string(session_->global_map()->num_keyframes()) +
              " KeyFrames";

@@ -3,8 +3,8 @@
 // payload, then the payload (little-endian; the id counters; KeyFrames with pose, camera,
 // features, descriptors, observations, parent, covisibility weights and loop edges; map
 // points; the KeyFrame accounting; since version 2, with several mobiles, each robot's
-// deliveries and accounting and where each of its maps sits (module/robot_frames.h)). Version
-// 1 files (one robot) are still read. Writing goes to a temporary file in the same folder which is then renamed over
+// deliveries and accounting and where each of its maps sits (module/robot_frames.h); since
+// version 3, the merges of their maps so far). Versions 1 (one robot) and 2 are still read. Writing goes to a temporary file in the same folder which is then renamed over
 // the target, so a crash mid-write leaves the previous file intact.
 #pragma once
 #include <Eigen/Geometry>
@@ -19,7 +19,7 @@
 
 namespace edge_slam {
 
-inline constexpr uint32_t kMapFileVersion = 2;  // 2: the several-robot sections (1 still read)
+inline constexpr uint32_t kMapFileVersion = 3;  // 2: the several-robot sections; 3: the merge history (1, 2 still read)
 
 // One robot's deliveries on an edge serving several mobiles: as MapSnapshot's own fields are
 // for the one robot.
@@ -41,6 +41,16 @@ struct MapGroupRecord {
   bool merged_away = false;
 };
 
+// One merge of two robots' maps (module/loop_closing.h MergeEvent without its correction
+// figures): KeyFrame `keyframe` (group_from) matched `loop_keyframe` (group_into) with `matches`
+// inliers, and group_from went into group_into at T_into_from. A restored edge still reports
+// the merges made before its restart (metrics.json, ~stats maps_merged).
+struct MapMergeRecord {
+  uint32_t keyframe = 0, loop_keyframe = 0;
+  int32_t group_from = 0, group_into = 0, matches = 0;
+  Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
+};
+
 struct MapSnapshot {
   // Every KeyFrame (observations of all its points, parent, covisibility weights) and every
   // map point; checked on load like a Local-Map update (io/record_checks.h).
@@ -56,6 +66,7 @@ struct MapSnapshot {
   std::vector<RobotMapSection> robots;
   std::vector<MapEpochRecord> epochs;
   std::vector<MapGroupRecord> groups;
+  std::vector<MapMergeRecord> merges;  // oldest first
 };
 
 std::vector<uint8_t> encode_map_file(const MapSnapshot& snapshot);

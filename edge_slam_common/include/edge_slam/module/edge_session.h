@@ -120,7 +120,8 @@ class EdgeSession {
   // threads. Both throw std::runtime_error with the reason; a failed load keeps the old map.
   // save_map returns, per robot, the received seq the file holds everything up to (what is now
   // durable). With several robots the file holds each robot's deliveries and where its maps are
-  // (merges included); load_map refuses a file of another number of robots.
+  // (merges included: their placement and the merge history, so merges() goes on from the
+  // file's); load_map refuses a file of another number of robots.
   std::vector<uint64_t> save_map(const std::string& path) const;
   void load_map(const std::string& path);
 
@@ -129,7 +130,7 @@ class EdgeSession {
   std::shared_ptr<const Map> global_map() const { return map_; }
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
-  std::vector<MergeEvent> merges() const;
+  std::vector<MergeEvent> merges() const;  // oldest first, those of a loaded file included
   // Where the robot's map is: its group and, once placed, TF world -> robotN/map.
   RobotPlacement placement(int robot) const { return frames_.placement(robot); }
   const RobotFrames& frames() const { return frames_; }
@@ -182,6 +183,8 @@ class EdgeSession {
 
   mutable std::mutex mutex_;  // receive / build / reset
   std::vector<RobotState> robots_;
+  std::vector<MergeEvent> merges_loaded_;  // the merges of the file last loaded (the live ones are the modules')
+  std::vector<MergeEvent> merges_locked() const;  // mutex_ held
   RobotFrames frames_;
   uint64_t transform_passes_ = 0;  // MapPoint::transform_once passes of received points
   mutable std::mutex culled_mutex_;        // culled_* are written by the Local-Mapping thread

@@ -92,7 +92,12 @@ class EdgeSystem {
                                     "rejecting malformed messages on 'keyframes'"};
   RejectionLog malformed_frames_{"rejecting a malformed message on 'frames'", "rejecting malformed messages on 'frames'"};
   LogThrottle invalid_keyframe_log_{5.0}, refused_frame_log_{5.0}, write_error_log_{30.0};
-  size_t loops_announced_ = 0, merges_announced_ = 0;  // new_loops / new_merges: the stats timer only
+  // What new_loops / new_merges have told. A loaded file's merges (and its loops, which start
+  // afresh) were told by the edge that saved it: rebase_announcements() after a load. A list
+  // that shrank was restarted with the modules (a reset): told again from its start.
+  std::mutex announce_mutex_;
+  size_t loops_announced_ = 0, merges_announced_ = 0;
+  void rebase_announcements();
   mutable std::mutex figures_mutex_;
   std::vector<double> keyframe_latency_ms_, update_build_ms_;
   uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
