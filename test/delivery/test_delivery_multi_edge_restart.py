@@ -68,6 +68,14 @@ class TwoRobotRun(SplitRun):
     def robot_status(self, robot):
         return self.call('edge', '/%s/edge_slam/edge_status' % robot)
 
+    def merges(self):
+        """The merges the edge reports in its metrics.json (rewritten every second)."""
+        try:
+            with open(os.path.join(self.out, 'edge_metrics.json')) as f:
+                return json.load(f).get('merges', [])
+        except (OSError, ValueError):
+            return []
+
     def placements(self):
         """T_world_robot of each robot index in the edge's metrics.json (rewritten every second)."""
         try:
@@ -83,6 +91,7 @@ class MultiEdgeRestartTest(unittest.TestCase):
             run.release_players()
             run.wait(lambda: run.bag_seconds() >= 10.0, 120, '10 s of data')
             before = {r: run.robot_status(r) or {} for r in ROBOTS}
+            merges_before = run.merges()
             killed_at, start = run.bag_seconds(), time.time()
             run.kill_edge()
             time.sleep(5.0)  # the outage itself: the mobiles go on tracking with no edge
@@ -100,6 +109,12 @@ class MultiEdgeRestartTest(unittest.TestCase):
             run.wait_for_edge_settled()
             run.wait(lambda: all(run.placements().get(str(k)) for k in range(len(ROBOTS))), 30,
                      'both robots placed in the world (edge_metrics.json)')
+            # The merge history is in the checkpoint: a merge made before it is still reported by the
+            # restarted edge (which has nothing to merge again then); one made after it, again.
+            merges_after = run.merges()
+            print('[multi_edge_restart] merges reported before the kill %d, by the restarted edge %d' % (
+                len(merges_before), len(merges_after)), file=sys.stderr)
+            self.assertGreaterEqual(len(merges_after), 1, 'the restarted edge reports the merge of the two maps')
             for robot in ROBOTS:
                 mobile = run.call('mobile', '/%s/edge_slam/mobile/delivery_status' % robot)
                 edge = run.robot_status(robot)
