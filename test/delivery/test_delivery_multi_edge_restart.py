@@ -68,21 +68,21 @@ class TwoRobotRun(SplitRun):
     def robot_status(self, robot):
         return self.call('edge', '/%s/edge_slam/edge_status' % robot)
 
-    def merges(self):
-        """The merges the edge reports in its metrics.json (rewritten every second)."""
+    def edge_metrics(self):
+        """The edge's metrics.json (rewritten every second), {} while there is none to read."""
         try:
             with open(os.path.join(self.out, 'edge_metrics.json')) as f:
-                return json.load(f).get('merges', [])
-        except (OSError, ValueError):
-            return []
-
-    def placements(self):
-        """T_world_robot of each robot index in the edge's metrics.json (rewritten every second)."""
-        try:
-            with open(os.path.join(self.out, 'edge_metrics.json')) as f:
-                return {k: v.get('T_world_robot') for k, v in json.load(f).get('robots', {}).items()}
+                return json.load(f)
         except (OSError, ValueError):
             return {}
+
+    def merges(self):
+        """The merges the edge reports."""
+        return self.edge_metrics().get('merges', [])
+
+    def placements(self):
+        """T_world_robot of each robot index."""
+        return {k: v.get('T_world_robot') for k, v in self.edge_metrics().get('robots', {}).items()}
 
 
 class MultiEdgeRestartTest(unittest.TestCase):

@@ -449,16 +449,9 @@ void EdgeSession::load_map(const std::string& path) {
   }
   for (size_t r = 0; r < robots_.size(); ++r) restore_robot(static_cast<int>(r), snapshot.robots[r]);
   merges_loaded_.clear();
-  for (const MapMergeRecord& m : snapshot.merges) {
-    MergeEvent e;
-    e.current_kf_id = m.keyframe;
-    e.loop_kf_id = m.loop_keyframe;
-    e.group_from = m.group_from;
-    e.group_into = m.group_into;
-    e.matches = m.matches;
-    e.T_into_from = m.T_into_from;
-    merges_loaded_.push_back(e);
-  }
+  for (const MapMergeRecord& m : snapshot.merges)  // the correction figures are not in the file
+    merges_loaded_.push_back(
+        MergeEvent{m.keyframe, m.loop_keyframe, m.group_from, m.group_into, m.matches, m.T_into_from, {}});
   {
     std::lock_guard<std::mutex> culled_lock(culled_mutex_);
     culled_ids_ = snapshot.culled_keyframe_ids;

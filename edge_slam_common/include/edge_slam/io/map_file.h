@@ -4,8 +4,9 @@
 // features, descriptors, observations, parent, covisibility weights and loop edges; map
 // points; the KeyFrame accounting; since version 2, with several mobiles, each robot's
 // deliveries and accounting and where each of its maps sits (module/robot_frames.h); since
-// version 3, the merges of their maps so far). Versions 1 (one robot) and 2 are still read. Writing goes to a temporary file in the same folder which is then renamed over
-// the target, so a crash mid-write leaves the previous file intact.
+// version 3, the merges of their maps so far). Versions 1 (one robot) and 2 are still read.
+// Writing goes to a temporary file in the same folder which is then renamed over the target, so
+// a crash mid-write leaves the previous file intact.
 #pragma once
 #include <Eigen/Geometry>
 
