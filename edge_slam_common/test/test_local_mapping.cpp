@@ -8,6 +8,7 @@
 #include "edge_slam/module/local_mapping.h"
 #include "edge_slam/module/map_point_culling.h"
 #include "edge_slam/module/triangulation.h"
+#include "edge_slam/util/robot_ids.h"
 #include "synthetic_map.h"
 
 using namespace edge_slam;
@@ -163,6 +164,119 @@ TEST(MapPointCulling, AnObservationWithDepthCountsTwice) {
   EXPECT_EQ(recent.cull(map, kf2->id()), 1);
   EXPECT_TRUE(alone->is_bad());
   EXPECT_FALSE(pair->is_bad());
+}
+
+// The edge installs a mobile's new points as its KeyFrame record brings them: in the map, named
+// by the KeyFrame, made by it, but without the observation tracking adds in a monolithic run.
+// Local-Mapping must put them on probation all the same: none was ever culled on the edge (0 of
+// ~10^5 in a 6-minute run against 130,000 culled in the monolithic run of the same sequence).
+TEST(MapPointCulling, PointsAKeyFrameRecordBroughtAreOnProbationLikeTrackingMadeOnes) {
+  auto map = std::make_shared<Map>();
+  const World w = wall(120);
+  View v1;
+  const auto T = look_from({0, 0, 0}, 0);
+  const auto kf1 = make_keyframe(*map, w, T, T, true, v1);
+  std::vector<std::shared_ptr<MapPoint>> tracked_made, record_made;
+  for (size_t i = 0; i < v1.physical.size(); ++i) {
+    if (kf1->features().right_x[i] < 0) continue;  // depth: one keyframe weighs 2 < 3 observers
+    if (i % 2 == 0) {
+      tracked_made.push_back(make_point(*map, kf1, i, w.points[v1.physical[i]]));
+    } else {
+      auto mp = std::make_shared<MapPoint>(map->new_map_point_id(), w.points[v1.physical[i]], kf1->id());
+      mp->set_descriptor(kf1->features().descriptor(i));
+      map->add_map_point(mp);
+      kf1->set_map_point_id(i, mp->id());  // named by the KeyFrame, no observation yet
+      record_made.push_back(mp);
+    }
+  }
+  ASSERT_GT(record_made.size(), 10u);
+  ASSERT_GT(tracked_made.size(), 10u);
+  // Two later KeyFrames elsewhere (another wall, not covisible): nobody observes the points again.
+  const World other = wall(60, 17);
+  View v2, v3;
+  const auto kf2 = make_keyframe(*map, other, look_from({5, 0, 0}, 0), look_from({5, 0, 0}, 0), true, v2);
+  const auto kf3 = make_keyframe(*map, other, look_from({5.1, 0, 0}, 0), look_from({5.1, 0, 0}, 0), true, v3);
+  LocalMappingParams params;
+  params.local_ba = false;
+  params.cull_keyframes = false;
+  LocalMapping mapping(map, std::make_shared<KeyFrameDatabase>(), nullptr, params);
+  for (const auto& kf : {kf1, kf2, kf3}) mapping.process_keyframe(kf);
+
+  size_t record_culled = 0, tracked_culled = 0;
+  for (const auto& mp : record_made) record_culled += mp->is_bad() ? 1 : 0;
+  for (const auto& mp : tracked_made) tracked_culled += mp->is_bad() ? 1 : 0;
+  EXPECT_EQ(tracked_culled, tracked_made.size());
+  EXPECT_EQ(record_culled, record_made.size()) << "points a record brought must be culled like tracking's";
+  EXPECT_GE(mapping.stats().points_culled, static_cast<int>(record_made.size() + tracked_made.size()));
+}
+
+// The found-ratio test split between the two sides: the mobile judges (its tracking has the
+// counts) and names the failures; the edge culls the named points that are on probation there.
+TEST(MapPointCulling, TheMobileRefutesRecentPointsTrackingRarelyFound) {
+  Map map;
+  const World w = wall(60);
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  std::vector<View> views(6);
+  for (int k = 0; k < 6; ++k) {
+    const auto T = look_from({0.05 * k, 0, 0}, 0);
+    kfs.push_back(make_keyframe(map, w, T, T, true, views[k]));
+  }
+  auto point_of = [&](int kf, size_t i) { return make_point(map, kfs[kf], i, w.points[views[kf].physical[i]]); };
+  const auto recent_rarely_found = point_of(3, 0);
+  recent_rarely_found->increase_visible(10);  // found 1 of 11 frames predicting it
+  const auto recent_often_found = point_of(3, 1);
+  recent_often_found->increase_visible(10);
+  recent_often_found->increase_found(9);       // 10 of 11
+  const auto old_rarely_found = point_of(0, 2);  // 5 KeyFrames old: past probation
+  old_rarely_found->increase_visible(10);
+  const auto own_new_point = point_of(5, 3);   // made by the KeyFrame being recorded
+  own_new_point->increase_visible(10);
+
+  MapPointCullingParams params;  // ratio 0.25, probation 3 KeyFrames
+  const std::vector<uint32_t> refuted = refute_unfound_points(map, kfs[5]->id(), params);
+  ASSERT_EQ(refuted, std::vector<uint32_t>{recent_rarely_found->id()});
+  EXPECT_TRUE(recent_rarely_found->is_bad());
+  EXPECT_EQ(map.map_point(recent_rarely_found->id()), nullptr);
+  EXPECT_EQ(kfs[3]->map_point_id(0), kNoId);
+  for (const auto& kept : {recent_often_found, old_rarely_found, own_new_point}) EXPECT_FALSE(kept->is_bad());
+}
+
+TEST(MapPointCulling, TheEdgeCullsRefutedPointsOnlyWhileOnProbation) {
+  Map map;
+  const World w = wall(60);
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  std::vector<View> views(6);
+  for (int k = 0; k < 6; ++k) {
+    const auto T = look_from({0.05 * k, 0, 0}, 0);
+    kfs.push_back(make_keyframe(map, w, T, T, true, views[k]));
+  }
+  auto seen_by_three = [&](int kf, size_t i) {  // weight 6: the observer rule keeps it
+    const auto mp = make_point(map, kfs[kf], i, w.points[views[kf].physical[i]]);
+    for (int k = kf + 1; k < kf + 3; ++k) add_observation(kfs[k], i, mp);
+    return mp;
+  };
+  const auto refuted_recent = seen_by_three(2, 0);
+  const auto unrefuted_recent = seen_by_three(2, 1);
+  RecentMapPoints recent;
+  recent.add(refuted_recent->id(), kfs[2]->id());
+  recent.add(unrefuted_recent->id(), kfs[2]->id());
+  // The edge's own counts say nothing (1 of 1): only the mobile's word culls.
+  const std::unordered_set<uint32_t> refuted{refuted_recent->id(), 999999u};  // one unknown id
+  int num_refuted = 0;
+  EXPECT_EQ(recent.cull(map, kfs[3]->id(), &refuted, &num_refuted), 1);
+  EXPECT_EQ(num_refuted, 1);
+  EXPECT_TRUE(refuted_recent->is_bad());
+  EXPECT_FALSE(unrefuted_recent->is_bad());
+
+  // Past probation the point has left the list: a late refutation changes nothing.
+  EXPECT_EQ(recent.cull(map, kfs[5]->id()), 0);
+  const std::unordered_set<uint32_t> late{unrefuted_recent->id()};
+  EXPECT_EQ(recent.cull(map, kfs[5]->id(), &late, &num_refuted), 0);
+  EXPECT_FALSE(unrefuted_recent->is_bad());
+  EXPECT_FALSE(on_probation(kfs[2]->id(), kfs[2]->id(), MapPointCullingParams{}));
+  EXPECT_TRUE(on_probation(kfs[2]->id(), kfs[5]->id(), MapPointCullingParams{}));
+  EXPECT_FALSE(on_probation(kfs[1]->id(), kfs[5]->id(), MapPointCullingParams{}));
+  EXPECT_FALSE(on_probation(kfs[2]->id(), keyframe_id_space(1).first + 3, MapPointCullingParams{}));  // another robot's
 }
 
 TEST(KeyFrameCulling, RedundantKeyFrameIsCulledAndItsChildrenReattached) {

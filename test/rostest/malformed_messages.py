@@ -161,6 +161,9 @@ def _keyframe_only(rng):
         'covis_self': lambda m: (m.covis_ids.append(m.id), m.covis_weights.append(3)),
         'covis_repeated': lambda m: (m.covis_ids.extend([7, 7]), m.covis_weights.extend([1, 2])),
         'own_parent': lambda m: setattr(m, 'parent_id', m.id),
+        'refuted_reserved_point': lambda m: setattr(m, 'refuted_point_ids', [m.id + 60, NO_ID]),
+        'refuted_repeated_point': lambda m: setattr(m, 'refuted_point_ids', [m.id + 61, m.id + 61]),
+        'too_many_refuted_points': lambda m: setattr(m, 'refuted_point_ids', list(range(m.id + 100, m.id + 100 + 20001))),
         'too_many_new_points': too_many_new_points,
         'too_many_covisibility': too_many_covisibility,
     }

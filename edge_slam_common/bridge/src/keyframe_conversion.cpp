@@ -42,6 +42,7 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
     msg.covis_ids.push_back(kf);
     msg.covis_weights.push_back(static_cast<uint16_t>(std::min<uint32_t>(weight, 65535)));
   }
+  msg.refuted_point_ids = r.refuted_points;
   return msg;
 }
 
@@ -99,6 +100,10 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
     r.covisibility.emplace_back(msg.covis_ids[i], msg.covis_weights[i]);
   }
   if (msg.parent_id == msg.id) return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + " is its own parent");
+  if (msg.refuted_point_ids.size() > limits.max_refuted_points)
+    return DecodeStatus::failure("too many refuted points: " + std::to_string(msg.refuted_point_ids.size()) +
+                                 " (at most " + std::to_string(limits.max_refuted_points) + ")");
+  r.refuted_points = msg.refuted_point_ids;
 
   if (!std::isfinite(msg.created_wall)) return DecodeStatus::failure("created_wall is not finite");
   r.seq = msg.seq;

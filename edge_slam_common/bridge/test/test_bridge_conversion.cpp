@@ -32,6 +32,7 @@ KeyFrameRecord make_keyframe(size_t n_features, size_t n_obs, size_t n_new, uint
                             Eigen::Vector3f(0.1f * i, 1.f, 2.f)});
   r.parent_id = 16;
   r.covisibility = {{16, 320}, {12, 40}};
+  r.refuted_points = {4990, 4991};  // two of KeyFrame 16's new points, rarely found since
   return r;
 }
 
@@ -61,6 +62,8 @@ TEST(BridgeConversion, KeyFrameRoundTripWithinQuantisation) {
   EXPECT_TRUE(out.new_points[3].position.isApprox(in.new_points[3].position));
   EXPECT_EQ(out.covisibility, in.covisibility);
   EXPECT_EQ(out.parent_id, in.parent_id);
+  ASSERT_EQ(in.refuted_points.size(), 2u);
+  EXPECT_EQ(out.refuted_points, in.refuted_points);
 }
 
 TEST(BridgeConversion, KeyFrameWireSizeIsCompact) {
@@ -92,6 +95,9 @@ TEST(BridgeConversion, RejectsMalformedKeyFrames) {
   { auto m = good; m.intrinsics[0] = 0; expect_reject(m, "fx"); }
   { auto m = good; m.width = 0; expect_reject(m, "width"); }
   { auto m = good; m.id = kNoId; expect_reject(m, "reserved id"); }
+  { auto m = good; m.refuted_point_ids = {7, kNoId}; expect_reject(m, "reserved refuted point id"); }
+  { auto m = good; m.refuted_point_ids = {7, 7}; expect_reject(m, "repeated refuted point"); }
+  { auto m = good; m.refuted_point_ids.assign(20001, 0); expect_reject(m, "too many refuted points"); }
   EXPECT_EQ(out.id, kNoId) << "a rejected message must leave the output untouched";
 }
 

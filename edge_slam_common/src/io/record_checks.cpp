@@ -76,6 +76,11 @@ std::string keyframe_record_problem(const KeyFrameRecord& r) {
     if (id == kNoId || id == r.id) return who + "covisibility link to the reserved id or to itself";
     if (!linked.insert(id).second) return who + "repeated covisibility link to " + std::to_string(id);
   }
+  std::unordered_set<uint32_t> refuted;
+  for (size_t i = 0; i < r.refuted_points.size(); ++i) {
+    if (r.refuted_points[i] == kNoId) return who + at("refuted point", i) + " is the reserved point id";
+    if (!refuted.insert(r.refuted_points[i]).second) return who + at("refuted point", i) + " is repeated";
+  }
   return {};
 }
 

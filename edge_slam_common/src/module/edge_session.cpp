@@ -153,6 +153,8 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     ++rs.counters.duplicates;
     return KeyFrameVerdict::kDuplicate;
   }
+  // What the mobile's tracking measured holds whether or not this KeyFrame is inserted.
+  modules_->mapping().refute_points(r.refuted_points);
   EdgeKeyFrameState state;
   state.any_inserted = rs.any_inserted;
   state.last_inserted_frame_id = rs.last_inserted_frame_id;

@@ -129,15 +129,26 @@ void LocalMapping::finish_insertion(const std::shared_ptr<KeyFrame>& kf) {
       continue;
     }
     if (mp->index_in(kf->id()) < 0) {
+      // A point this keyframe's record brought (the edge installs a mobile's new points
+      // without observations): as new as one tracking made here, so it goes on probation too.
+      // Without this no mobile-made point was ever culled on the edge.
+      const bool made_here = mp->reference_kf_id() == kf->id() && mp->num_observations() == 0;
       mp->add_observation(kf->id(), static_cast<int>(i));
       mp->update_normal_and_depth(*map_);
       mp->update_descriptor(*map_);
+      if (made_here) recent_.add(mp->id(), kf->id());
     } else if (mp->reference_kf_id() == kf->id() && mp->num_observations() == 1) {
       recent_.add(mp->id(), kf->id());  // made by tracking from this keyframe's depth
     }
   }
   kf->update_connections(*map_);
   if (kf->has_bow() && database_) database_->add(kf);
+}
+
+void LocalMapping::refute_points(const std::vector<uint32_t>& ids) {
+  if (ids.empty()) return;
+  std::lock_guard<std::mutex> lock(refuted_mutex_);
+  refuted_.insert(ids.begin(), ids.end());
 }
 
 void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
@@ -152,11 +163,16 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     if (on_keyframe_done && kf) on_keyframe_done(kf);
     return;
   }
-  int culled = 0, created = 0, fused = 0, kf_culled = 0;
+  int culled = 0, refuted_culled = 0, created = 0, fused = 0, kf_culled = 0;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
     finish_insertion(kf);
-    culled = recent_.cull(*map_, kf->id());
+    std::unordered_set<uint32_t> refuted;
+    {
+      std::lock_guard<std::mutex> refuted_lock(refuted_mutex_);
+      refuted.swap(refuted_);
+    }
+    culled = recent_.cull(*map_, kf->id(), &refuted, &refuted_culled);
     const auto points = triangulate_new_points(*map_, kf, params_.triangulation,
                                                [this] { return new_keyframes_waiting(); });
     for (const auto& mp : points) recent_.add(mp->id(), kf->id());
@@ -184,6 +200,7 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     ++stats_.keyframes_processed;
     stats_.points_culled += culled;
+    stats_.points_refuted += refuted_culled;
     stats_.points_created += created;
     stats_.points_fused += fused;
     stats_.keyframes_culled += kf_culled;

@@ -10,6 +10,8 @@
 #include "edge_slam/util/robot_ids.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
+#include "edge_slam/module/local_mapping_params.h"
+#include "edge_slam/module/map_point_culling.h"
 #include "edge_slam/module/update_carry_over.h"
 #include "edge_slam/module/update_merge.h"
 #include "edge_slam/util/wall_clock.h"
@@ -32,6 +34,8 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
     throw std::runtime_error(cfg.origin() + ": key 'edge_slam/mobile_keyframe_pacing' has value '" + pacing +
                              "', expected one of edge, none");
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
+  p.refute_unfound_points = cfg.get_bool_or("edge_slam/refute_unfound_points", true);
+  p.point_culling = load_local_mapping_params(cfg).point_culling;
   const std::string install = cfg.get_string("edge_slam/update_install", "merge");
   if (install == "replace")
     p.update_install = MobileSessionParams::UpdateInstall::kReplace;
@@ -77,6 +81,11 @@ MobileSession::MobileSession(const PinholeCamera& camera, const OrbParams& orb, 
 }
 
 void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
+  // First the recent points tracking found too rarely: out of the Local-Map (this KeyFrame no
+  // longer observes them) and named in the record for the edge's point culling.
+  std::vector<uint32_t> refuted;
+  if (params_.refute_unfound_points) refuted = refute_unfound_points(*map_, kf->id(), params_.point_culling);
+  keyframe_stats_.points_refuted += refuted.size();
   // The points this KeyFrame created travel in full; the others as observations by id.
   std::unordered_set<uint32_t> created;
   for (uint32_t id : kf->map_point_ids()) {
@@ -85,6 +94,7 @@ void MobileSession::on_new_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     if (mp && mp->reference_kf_id() == kf->id() && mp->num_observations() == 1) created.insert(id);
   }
   KeyFrameRecord record = to_record(*kf, *map_, created);
+  record.refuted_points = std::move(refuted);
   record.seq = next_keyframe_seq_++;
   const KeyFrameDecisionInput& decision = tracking_.last_keyframe_decision();
   auto count16 = [](int v) { return static_cast<uint16_t>(std::clamp(v, 0, 65535)); };

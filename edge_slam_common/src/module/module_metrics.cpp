@@ -33,6 +33,7 @@ void add_module_figures(MetricsJson& m, const ModuleFigures& f) {
         .integer("keyframes_skipped", s.keyframes_skipped)
         .integer("points_created", s.points_created)
         .integer("points_culled", s.points_culled)
+        .integer("points_refuted", s.points_refuted)
         .integer("points_fused", s.points_fused)
         .integer("keyframes_culled", s.keyframes_culled)
         .integer("local_ba_runs", s.local_ba_runs)

@@ -99,6 +99,7 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .integer("needs_close_points", static_cast<long long>(k.needs_close_points))
       .integer("weak_tracking", static_cast<long long>(k.weak_tracking))
       .integer("reference_mobile_made", static_cast<long long>(k.reference_mobile_made))
+      .integer("points_refuted", static_cast<long long>(k.points_refuted))
       .number("mean_inliers", k.made ? double(k.inliers_sum) / k.made : 0.0)
       .number("mean_reference_points", k.made ? double(k.reference_points_sum) / k.made : 0.0);
   MetricsJson update_stats;

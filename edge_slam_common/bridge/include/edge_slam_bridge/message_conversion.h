@@ -19,6 +19,7 @@ struct MessageLimits {
   size_t max_keyframes_per_update = 2000;
   size_t max_points_per_update = 2000000;
   size_t max_covisibility = 4000;
+  size_t max_refuted_points = 20000;  // a Local-Map holds ~10^4 points; the refuted are a share of its newest
   size_t max_camera_name = 256;
   int max_image_side = 8192;
   size_t max_message_bytes = 256u << 20;  // serialized size

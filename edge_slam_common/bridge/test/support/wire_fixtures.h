@@ -69,6 +69,7 @@ inline KeyFrameRecord keyframe(uint32_t id, size_t n_features, size_t n_obs, siz
                             Eigen::Vector3f(0.1f * i, 1.f, 2.f)});
   r.parent_id = id > 0 ? id - 1 : kNoId;
   if (id > 0) r.covisibility = {{id - 1, 40}};
+  if (id > 0) r.refuted_points = {40000 + 1000 * id, 40001 + 1000 * id};  // two of the previous KeyFrames' points
   return r;
 }
 

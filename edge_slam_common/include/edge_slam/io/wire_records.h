@@ -55,6 +55,10 @@ struct KeyFrameRecord {
   uint16_t tracked_points = 0, reference_points = 0, tracked_close_points = 0, untracked_close_points = 0;
   uint32_t parent_id = kNoId;                                // spanning tree
   std::vector<std::pair<uint32_t, uint32_t>> covisibility;   // (KeyFrame id, shared points)
+  // Points on probation the mobile's tracking found too rarely (module/map_point_culling.h,
+  // mobile -> edge; empty inside a MapUpdate): the edge culls them as ORB-SLAM2's tracker-fed
+  // MapPointCulling would.
+  std::vector<uint32_t> refuted_points;
 };
 
 struct FrameRecord {

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_set>
 #include <vector>
 
 #include "edge_slam/data/keyframe.h"
@@ -31,6 +32,7 @@ struct LocalMappingStats {
   int keyframes_processed = 0;
   int keyframes_skipped = 0;  // bad / erased while queued
   int points_culled = 0;
+  int points_refuted = 0;  // of those: culled because the mobile's tracking found them too rarely
   int points_created = 0;
   int points_fused = 0;
   int keyframes_culled = 0;
@@ -51,6 +53,9 @@ class LocalMapping {
 
   // Queues a keyframe (already inserted in the map by tracking) and aborts a running local BA.
   void insert_keyframe(const std::shared_ptr<KeyFrame>& kf);
+  // Points a mobile's tracking found too rarely (its KeyFrame records' refuted points): culled at
+  // the next KeyFrame's point culling if still on probation there, else forgotten. Any thread.
+  void refute_points(const std::vector<uint32_t>& ids);
   // Synchronous processing of one keyframe (what the thread does per keyframe; tests).
   void process_keyframe(const std::shared_ptr<KeyFrame>& kf);
 
@@ -92,6 +97,8 @@ class LocalMapping {
   LocalMappingParams params_;
   BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
   RecentMapPoints recent_;
+  std::mutex refuted_mutex_;
+  std::unordered_set<uint32_t> refuted_;  // refute_points(), consumed by the next cull
   std::thread thread_;
   std::atomic<bool> running_{false};
   std::atomic<bool> busy_{false};

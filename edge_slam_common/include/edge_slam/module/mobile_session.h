@@ -17,6 +17,7 @@
 #include "edge_slam/data/map.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/io/wire_records.h"
+#include "edge_slam/module/map_point_culling.h"
 #include "edge_slam/module/map_update_policy.h"
 #include "edge_slam/module/tracking.h"
 #include "edge_slam/util/bounded_queue.h"
@@ -53,6 +54,12 @@ struct MobileSessionParams {
   // mapped; the cap then drops the oldest of those first, never the update's own.
   enum class UpdateInstall { kReplace, kKeepNewer, kMerge };
   UpdateInstall update_install = UpdateInstall::kMerge;
+  // ORB-SLAM2 culls a new point that tracking predicted in view but matched in fewer than 25% of
+  // those frames; only tracking has those counts, and in the split it runs here. true: each
+  // KeyFrame record names the recent points that failed the test (module/map_point_culling.h)
+  // and the edge culls them; false: the paper's record, the edge culls by observers only.
+  bool refute_unfound_points = true;
+  MapPointCullingParams point_culling;  // local_mapping/point_*: the edge's own rules
 };
 
 class ConfigMap;
@@ -69,6 +76,7 @@ struct MobileKeyFrameStats {
   uint64_t weak_tracking = 0;         // condition (2)'s weak-tracking clause held
   uint64_t reference_mobile_made = 0; // the decision's reference was a KeyFrame this mobile made
   uint64_t inliers_sum = 0, reference_points_sum = 0;
+  uint64_t points_refuted = 0;        // recent points tracking found too rarely, named in the records
 };
 struct MobileUpdateStats {
   uint64_t installed = 0;
