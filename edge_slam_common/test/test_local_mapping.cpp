@@ -33,6 +33,16 @@ Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, double rot, double trans
   return d * T;
 }
 
+// One KeyFrame with depth per view, 5 cm apart along the wall, consecutive ids.
+std::vector<std::shared_ptr<KeyFrame>> keyframes_along_wall(Map& map, const World& w, std::vector<View>& views) {
+  std::vector<std::shared_ptr<KeyFrame>> kfs;
+  for (size_t k = 0; k < views.size(); ++k) {
+    const auto T = look_from({0.05 * static_cast<double>(k), 0, 0}, 0);
+    kfs.push_back(make_keyframe(map, w, T, T, true, views[k]));
+  }
+  return kfs;
+}
+
 }  // namespace
 
 TEST(MapEdit, ReplaceMovesObservationsAndMarksTheOldPointBad) {
@@ -215,12 +225,8 @@ TEST(MapPointCulling, PointsAKeyFrameRecordBroughtAreOnProbationLikeTrackingMade
 TEST(MapPointCulling, TheMobileRefutesRecentPointsTrackingRarelyFound) {
   Map map;
   const World w = wall(60);
-  std::vector<std::shared_ptr<KeyFrame>> kfs;
   std::vector<View> views(6);
-  for (int k = 0; k < 6; ++k) {
-    const auto T = look_from({0.05 * k, 0, 0}, 0);
-    kfs.push_back(make_keyframe(map, w, T, T, true, views[k]));
-  }
+  const std::vector<std::shared_ptr<KeyFrame>> kfs = keyframes_along_wall(map, w, views);
   auto point_of = [&](int kf, size_t i) { return make_point(map, kfs[kf], i, w.points[views[kf].physical[i]]); };
   const auto recent_rarely_found = point_of(3, 0);
   recent_rarely_found->increase_visible(10);  // found 1 of 11 frames predicting it
@@ -244,12 +250,8 @@ TEST(MapPointCulling, TheMobileRefutesRecentPointsTrackingRarelyFound) {
 TEST(MapPointCulling, TheEdgeCullsRefutedPointsOnlyWhileOnProbation) {
   Map map;
   const World w = wall(60);
-  std::vector<std::shared_ptr<KeyFrame>> kfs;
   std::vector<View> views(6);
-  for (int k = 0; k < 6; ++k) {
-    const auto T = look_from({0.05 * k, 0, 0}, 0);
-    kfs.push_back(make_keyframe(map, w, T, T, true, views[k]));
-  }
+  const std::vector<std::shared_ptr<KeyFrame>> kfs = keyframes_along_wall(map, w, views);
   auto seen_by_three = [&](int kf, size_t i) {  // weight 6: the observer rule keeps it
     const auto mp = make_point(map, kfs[kf], i, w.points[views[kf].physical[i]]);
     for (int k = kf + 1; k < kf + 3; ++k) add_observation(kfs[k], i, mp);
