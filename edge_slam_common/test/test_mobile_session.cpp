@@ -57,6 +57,25 @@ TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
   const MapUpdateCounters c = session.update_counters();
   EXPECT_EQ(c.received, 3u);
   EXPECT_EQ(c.accepted, 1u);
+  // The replaced Local-Map's memory goes back to the system once per installed update.
+  EXPECT_EQ(session.update_stats().heap_releases, session.update_stats().installed);
+}
+
+TEST(MobileSession, GivesNoHeapBackWhenReleaseAfterUpdateIsOff) {
+  const RenderedSequence& seq = sequence();
+  MobileSessionParams params;
+  params.update_retry_window = 0;
+  params.release_heap_after_update = false;
+  MobileSession session = make_session(paper_pacing(params));
+  for (int i = 0; i < kFrames - 10; ++i)
+    ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  ASSERT_GE(sent.size(), 2u);
+  ASSERT_EQ(session.apply_update(update_from(sent, seq.camera), (kFrames - 11) / 15.0 + 1.0).decision,
+            UpdateDecision::kAccept);
+  EXPECT_EQ(session.update_stats().installed, 1u);
+  EXPECT_EQ(session.update_stats().heap_releases, 0u);
 }
 
 TEST(MobileSession, AnUpdateRefusedOnlyByTheKeyFrameRateIsRetriedOnTheNextFrames) {

@@ -7,6 +7,7 @@
 
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/config_file.h"
+#include "edge_slam/util/heap_release.h"
 #include "edge_slam/util/robot_ids.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
@@ -35,6 +36,7 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
                              "', expected one of edge, none");
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
   p.refute_unfound_points = cfg.get_bool_or("edge_slam/refute_unfound_points", true);
+  p.release_heap_after_update = cfg.get_bool_or("edge_slam/release_heap_after_update", true);
   p.point_culling = load_local_mapping_params(cfg).point_culling;
   const std::string install = cfg.get_string("edge_slam/update_install", "merge");
   if (install == "replace")
@@ -280,6 +282,15 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   out.keyframes = pending.staged.stats.keyframes;
   out.map_points = pending.staged.stats.map_points;
   out.rebuild_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (params_.release_heap_after_update) {  // the previous update's map is freed by now
+    const HeapRelease released = release_free_heap_pages();
+    if (released.supported) {
+      ++update_stats_.heap_releases;
+      update_stats_.heap_releases_freeing += released.released ? 1 : 0;
+      update_stats_.heap_release_ms += released.ms;
+      update_stats_.max_heap_release_ms = std::max(update_stats_.max_heap_release_ms, released.ms);
+    }
+  }
 }
 
 void MobileSession::on_edge_progress(uint64_t mapped_seq, bool mapper_busy_elsewhere) {

@@ -110,7 +110,11 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .integer("mobile_keyframes_dropped", static_cast<long long>(us.mobile_keyframes_dropped))
       .integer("keyframes_carried", static_cast<long long>(us.keyframes_carried))
       .number("max_correction_m", us.max_correction_m)
-      .number("mean_correction_m", us.installed ? us.sum_correction_m / us.installed : 0.0);
+      .number("mean_correction_m", us.installed ? us.sum_correction_m / us.installed : 0.0)
+      .integer("heap_releases", static_cast<long long>(us.heap_releases))
+      .integer("heap_releases_freeing", static_cast<long long>(us.heap_releases_freeing))
+      .number("heap_release_ms", us.heap_release_ms)
+      .number("max_heap_release_ms", us.max_heap_release_ms);
   MetricsJson m;
   m.text("mode", "split").text("dataset", dataset);
   m.object("keyframe_stats", kf_stats).object("update_stats", update_stats);

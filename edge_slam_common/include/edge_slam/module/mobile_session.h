@@ -60,6 +60,10 @@ struct MobileSessionParams {
   // and the edge culls them; false: the paper's record, the edge culls by observers only.
   bool refute_unfound_points = true;
   MapPointCullingParams point_culling;  // local_mapping/point_*: the edge's own rules
+  // After each installed update, give the heap's free pages back to the system
+  // (util/heap_release.h): the replaced Local-Map's memory otherwise stays with the allocator,
+  // fragmented, and the mobile's RSS creeps up although its in-use memory is flat.
+  bool release_heap_after_update = true;
 };
 
 class ConfigMap;
@@ -89,6 +93,9 @@ struct MobileUpdateStats {
   // How far each update moved the map under the camera: the correction at the last frame's
   // reference KeyFrame (camera centre displacement), the largest and the sum over the updates.
   double max_correction_m = 0, sum_correction_m = 0;
+  // release_heap_after_update: calls made, how many gave memory back, their total wall time.
+  uint64_t heap_releases = 0, heap_releases_freeing = 0;
+  double heap_release_ms = 0, max_heap_release_ms = 0;
 };
 
 struct UpdateOutcome {
