@@ -5,6 +5,7 @@
 
 #include "edge_slam/camera/camera_loader.h"
 #include "edge_slam/io/config_file.h"
+#include "edge_slam/module/edge_session.h"
 #include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/tracking_params.h"
 
@@ -126,6 +127,17 @@ TEST(Config, LocalMappingSectionLoadsAndRejectsBadValues) {
   EXPECT_FLOAT_EQ(lm.point_culling.min_found_ratio, 0.25f);
   EXPECT_DOUBLE_EQ(lm.keyframe_culling.redundant_ratio, 0.9);
   EXPECT_TRUE(lm.local_ba);
+  EXPECT_EQ(lm.ba_window.max_free_keyframes, 0u);  // ORB-SLAM2's unbounded window unless configured
+  EXPECT_EQ(lm.ba_window.max_fixed_keyframes, 0u);
+  ConfigMap tuned = slam;
+  tuned.set("local_mapping/ba_max_free_keyframes", "20");
+  tuned.set("local_mapping/ba_max_fixed_keyframes", "15");
+  EXPECT_EQ(load_local_mapping_params(tuned).ba_window.max_free_keyframes, 20u);
+  EXPECT_EQ(load_local_mapping_params(tuned).ba_window.max_fixed_keyframes, 15u);
+  // The edge hosts Local-Mapping: it reads the same section (it used to keep the defaults).
+  EXPECT_EQ(load_edge_session_params(tuned).mapping.ba_window.max_free_keyframes, 20u);
+  tuned.set("local_mapping/triangulation_covisibles", "7");
+  EXPECT_EQ(load_edge_session_params(tuned).mapping.triangulation.num_covisibles, 7u);
   ConfigMap bad = slam;
   bad.set("local_mapping/ba_first_pass_iterations", "0");
   EXPECT_NE(error_of([&] { load_local_mapping_params(bad); }).find("ba_first_pass_iterations"), std::string::npos);

@@ -1,4 +1,5 @@
 #include "edge_slam/module/edge_session.h"
+#include "edge_slam/module/local_mapping_params.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -42,6 +43,8 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.keyframe = load_keyframe_decision_params(cfg);  // conditions 1-2: the tracker's own settings
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
+  // The edge hosts Local-Mapping: the same "local_mapping:" section the monolithic runner reads.
+  p.mapping = load_local_mapping_params(cfg);
   return p;
 }
 

@@ -216,7 +216,7 @@ void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
   BundleAdjustmentProblem problem;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
-    problem = build_local_ba_problem(*map_, *kf);
+    problem = build_local_ba_problem(*map_, *kf, params_.ba_window);
   }
   if (problem.keyframes.empty()) return;
   LocalBaOptions options;
@@ -231,6 +231,8 @@ void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
   }
   std::lock_guard<std::mutex> lock(stats_mutex_);
   ++stats_.local_ba_runs;
+  for (const BaKeyFrame& b : problem.keyframes) ++(b.fixed ? stats_.local_ba_fixed_keyframes : stats_.local_ba_free_keyframes);
+  stats_.local_ba_observations += static_cast<long long>(problem.observations.size());
   if (result.aborted) ++stats_.local_ba_aborted;
   if (!result.ok) {
     ++stats_.local_ba_failed;

@@ -18,6 +18,10 @@ LocalMappingParams load_local_mapping_params(const ConfigMap& cfg) {
   p.ba_second_pass_iterations =
       cfg.get_int_or("local_mapping/ba_second_pass_iterations", p.ba_second_pass_iterations, 0, 1000);
   p.ba_num_threads = cfg.get_int_or("local_mapping/ba_num_threads", p.ba_num_threads, 1, 64);
+  p.ba_window.max_free_keyframes = static_cast<size_t>(cfg.get_int_or(
+      "local_mapping/ba_max_free_keyframes", static_cast<int>(p.ba_window.max_free_keyframes), 0, 100000));
+  p.ba_window.max_fixed_keyframes = static_cast<size_t>(cfg.get_int_or(
+      "local_mapping/ba_max_fixed_keyframes", static_cast<int>(p.ba_window.max_fixed_keyframes), 0, 100000));
   p.cull_keyframes = cfg.get_bool_or("local_mapping/cull_keyframes", p.cull_keyframes);
   KeyFrameCullingParams& k = p.keyframe_culling;
   k.redundant_ratio = cfg.get_double_or("local_mapping/keyframe_redundant_ratio", k.redundant_ratio, 0.0, 1.0);

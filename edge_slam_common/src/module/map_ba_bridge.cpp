@@ -1,6 +1,8 @@
 #include "edge_slam/module/map_ba_bridge.h"
 
+#include <algorithm>
 #include <unordered_map>
+#include <utility>
 
 #include "edge_slam/data/map_edit.h"
 
@@ -35,14 +37,15 @@ void add_point(BundleAdjustmentProblem& p, const MapPoint& mp,
 
 }  // namespace
 
-BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& kf_in) {
+BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& kf_in, const LocalBaWindow& window) {
   BundleAdjustmentProblem p;
   const auto kf = map.keyframe(kf_in.id());
   if (!kf || kf->is_bad()) return p;
   p.camera = kf->features().camera;
 
   std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> local{{kf->id(), kf}};
-  for (uint32_t id : kf->ordered_neighbours()) {
+  for (uint32_t id : kf->ordered_neighbours()) {  // strongest covisibility first
+    if (window.max_free_keyframes > 0 && local.size() >= window.max_free_keyframes) break;
     auto nb = map.keyframe(id);
     if (nb && !nb->is_bad()) local.emplace(id, std::move(nb));
   }
@@ -50,13 +53,27 @@ BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& k
   for (const auto& [id, k] : local)
     for (auto& mp : k->map_points(map))
       if (mp) points.emplace(mp->id(), std::move(mp));
-  std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> all = local;
+
+  // Fixed keyframes: the other observers of the window's points, most observations first.
+  std::unordered_map<uint32_t, int> window_observations;
   for (const auto& [id, mp] : points)
-    for (const auto& [obs_kf, idx] : mp->observations()) {
-      if (all.count(obs_kf)) continue;
-      auto other = map.keyframe(obs_kf);
-      if (other && !other->is_bad()) all.emplace(obs_kf, std::move(other));
+    mp->for_each_observation([&](uint32_t obs_kf, int) {
+      if (!local.count(obs_kf)) ++window_observations[obs_kf];
+    });
+  std::vector<std::pair<int, uint32_t>> by_count;  // (-count, id): most first, ties by id
+  by_count.reserve(window_observations.size());
+  for (const auto& [id, n] : window_observations) by_count.emplace_back(-n, id);
+  std::sort(by_count.begin(), by_count.end());
+  std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> all = local;
+  size_t fixed = 0;
+  for (const auto& [neg_count, id] : by_count) {
+    if (window.max_fixed_keyframes > 0 && fixed >= window.max_fixed_keyframes) break;
+    auto other = map.keyframe(id);
+    if (other && !other->is_bad()) {
+      all.emplace(id, std::move(other));
+      ++fixed;
     }
+  }
   for (const auto& [id, k] : all) {
     BaKeyFrame b;
     b.id = id;

@@ -38,7 +38,10 @@ void add_module_figures(MetricsJson& m, const ModuleFigures& f) {
         .integer("keyframes_culled", s.keyframes_culled)
         .integer("local_ba_runs", s.local_ba_runs)
         .integer("local_ba_aborted", s.local_ba_aborted)
-        .integer("local_ba_failed", s.local_ba_failed);
+        .integer("local_ba_failed", s.local_ba_failed)
+        .integer("local_ba_free_keyframes", s.local_ba_free_keyframes)
+        .integer("local_ba_fixed_keyframes", s.local_ba_fixed_keyframes)
+        .integer("local_ba_observations", s.local_ba_observations);
     m.object("local_mapping", stats).timing("local_mapping_ms", f.local_mapping_ms).timing("local_ba_ms", f.local_ba_ms);
   }
   if (f.has_loop_closing) {

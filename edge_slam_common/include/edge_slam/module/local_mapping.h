@@ -39,6 +39,10 @@ struct LocalMappingStats {
   int local_ba_runs = 0;
   int local_ba_aborted = 0;
   int local_ba_failed = 0;
+  // Window sizes summed over the local BA runs (divide by local_ba_runs for the mean).
+  long long local_ba_free_keyframes = 0;
+  long long local_ba_fixed_keyframes = 0;
+  long long local_ba_observations = 0;
 };
 
 class LocalMapping {

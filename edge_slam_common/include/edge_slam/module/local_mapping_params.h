@@ -5,6 +5,7 @@
 
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/module/keyframe_culling.h"
+#include "edge_slam/module/map_ba_bridge.h"
 #include "edge_slam/module/map_point_culling.h"
 #include "edge_slam/module/triangulation.h"
 
@@ -18,6 +19,7 @@ struct LocalMappingParams {
   int ba_first_pass_iterations = 5;   // with the Huber kernel
   int ba_second_pass_iterations = 10; // after dropping outliers
   int ba_num_threads = 1;
+  LocalBaWindow ba_window;  // bounds on the local BA window; {0, 0} = ORB-SLAM2's unbounded window
   bool cull_keyframes = true;
   size_t queue_capacity = 1000;  // large: an evicted keyframe would never be processed
 };

@@ -2,6 +2,7 @@
 // local BA after each keyframe and the full BA after a loop closure. Building and applying
 // need Map::update_mutex() held by the caller; the solve in between does not.
 #pragma once
+#include <cstddef>
 #include <memory>
 #include <unordered_set>
 #include <vector>
@@ -12,10 +13,22 @@
 
 namespace edge_slam {
 
-// Local window of `kf` (ORB-SLAM2's LocalBundleAdjustment): kf and all its covisible
-// keyframes are free (the map's root stays fixed), their points are adjusted, and the other
-// keyframes observing those points are included fixed. Empty problem when kf is bad.
-BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& kf);
+// Bounds on the local window; 0 = unbounded, ORB-SLAM2's and the paper's window.
+struct LocalBaWindow {
+  // kf plus at most this many - 1 covisible keyframes, the strongest covisibility first.
+  size_t max_free_keyframes = 0;
+  // At most this many fixed keyframes, those observing the most window points first; the
+  // observations of the others are left out.
+  size_t max_fixed_keyframes = 0;
+};
+
+// Local window of `kf` (ORB-SLAM2's LocalBundleAdjustment): kf and its covisible keyframes
+// are free (the map's root stays fixed), their points are adjusted, and the other keyframes
+// observing those points are included fixed, both within `window`. Empty problem when kf is bad.
+// Why bounds: when the camera stays in one place (fr1_rpy turns on the spot) every keyframe is
+// covisible with every other, the unbounded window is the whole map and its cost grows with it.
+BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& kf,
+                                               const LocalBaWindow& window = {});
 
 // Every good keyframe (the root fixed) and point of the map.
 BundleAdjustmentProblem build_full_ba_problem(const Map& map);
