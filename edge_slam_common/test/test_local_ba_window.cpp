@@ -95,26 +95,27 @@ TEST(LocalBaWindow, BoundedKeepsTheStrongestCovisiblesFreeAndTheBusiestObservers
   const BundleAdjustmentProblem p = build_local_ba_problem(c.map, kf, window);
 
   // Free: the keyframe and its two strongest covisibles (none of them the root here).
-  EXPECT_EQ(ids(p, false), (std::set<uint32_t>{kf.id(), neighbours[0], neighbours[1]}));
+  const std::set<uint32_t> free = ids(p, false), fixed = ids(p, true);
+  EXPECT_EQ(free, (std::set<uint32_t>{kf.id(), neighbours[0], neighbours[1]}));
   // Fixed: the two other keyframes observing the most points of the window.
   std::set<uint32_t> window_points;
   for (const auto& b : p.points) window_points.insert(b.id);
   std::map<uint32_t, int> count;
   for (uint32_t id : window_points)
     c.map.map_point(id)->for_each_observation([&](uint32_t obs_kf, int) {
-      if (!ids(p, false).count(obs_kf)) ++count[obs_kf];
+      if (!free.count(obs_kf)) ++count[obs_kf];
     });
   std::vector<std::pair<int, uint32_t>> ranked;
   for (const auto& [id, n] : count) ranked.emplace_back(-n, id);
   std::sort(ranked.begin(), ranked.end());
   ASSERT_GE(ranked.size(), 3u);
-  EXPECT_EQ(ids(p, true), (std::set<uint32_t>{ranked[0].second, ranked[1].second}));
+  EXPECT_EQ(fixed, (std::set<uint32_t>{ranked[0].second, ranked[1].second}));
   // The observations of keyframes left out are not in the problem; the rest are.
   expect_observations_name_problem_members(p);
   size_t expected_observations = 0;
   for (uint32_t id : window_points)
     c.map.map_point(id)->for_each_observation([&](uint32_t obs_kf, int) {
-      if (ids(p, false).count(obs_kf) || ids(p, true).count(obs_kf)) ++expected_observations;
+      if (free.count(obs_kf) || fixed.count(obs_kf)) ++expected_observations;
     });
   EXPECT_EQ(p.observations.size(), expected_observations);
   EXPECT_LT(p.observations.size(), build_local_ba_problem(c.map, kf).observations.size());

@@ -93,14 +93,15 @@ int MapPoint::num_observations() const {
   std::lock_guard<std::mutex> lock(features_mutex_);
   return static_cast<int>(observations_.size());
 }
+int observation_weight(const KeyFrame* kf, int idx) {
+  const bool stereo = kf && idx >= 0 && static_cast<size_t>(idx) < kf->features().size() &&
+                      kf->features().right_x[idx] >= 0;
+  return stereo ? 2 : 1;
+}
+
 int MapPoint::weighted_observations(const Map& map) const {
   int n = 0;
-  for (const auto& [kf_id, idx] : observations()) {
-    const auto kf = map.keyframe(kf_id);
-    const bool stereo = kf && idx >= 0 && static_cast<size_t>(idx) < kf->features().size() &&
-                        kf->features().right_x[idx] >= 0;
-    n += stereo ? 2 : 1;
-  }
+  for (const auto& [kf_id, idx] : observations()) n += observation_weight(map.keyframe(kf_id).get(), idx);
   return n;
 }
 

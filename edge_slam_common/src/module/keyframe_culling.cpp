@@ -39,14 +39,9 @@ bool redundant_with_lookup(const Map& map, const KeyFrame& kf, const KeyFrameCul
     ++considered;
     obs.clear();
     mp->for_each_observation([&obs](uint32_t id, int idx) { obs.emplace_back(id, idx); });
-    // MapPoint::weighted_observations, from the same copy: 2 for an observation with depth.
+    // MapPoint::weighted_observations, from the same copy.
     int weighted = 0;
-    for (const auto& [id, idx] : obs) {
-      const KeyFrame* other = lookup.find(id);
-      const bool stereo = other && idx >= 0 && static_cast<size_t>(idx) < other->features().size() &&
-                          other->features().right_x[idx] >= 0;
-      weighted += stereo ? 2 : 1;
-    }
+    for (const auto& [id, idx] : obs) weighted += observation_weight(lookup.find(id), idx);
     if (weighted <= params.min_other_observers) continue;
     const int level = f.keys_un[i].octave;
     int observers = 0;

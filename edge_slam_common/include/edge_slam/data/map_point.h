@@ -17,6 +17,7 @@
 namespace edge_slam {
 
 class Map;
+class KeyFrame;
 using Descriptor = std::array<uint8_t, kDescriptorBytes>;
 
 
@@ -124,5 +125,9 @@ class MapPoint {
   std::map<uint32_t, int> observations_;
   uint32_t reference_kf_id_;
 };
+
+// One observation's weight in MapPoint::weighted_observations: 2 when keypoint `keypoint_index`
+// of `kf` has depth, 1 otherwise or when kf is null (not in the map).
+int observation_weight(const KeyFrame* kf, int keypoint_index);
 
 }  // namespace edge_slam
