@@ -73,7 +73,7 @@ TEST(Frame, MissingDepthIsNanZeroOrNegative) {
   EXPECT_FALSE(f->has_depth(2));
   ASSERT_TRUE(f->has_depth(3));
   EXPECT_FLOAT_EQ(f->depth[3], 2.0f);
-  EXPECT_NEAR(f->right_x[3], 400 - 40.0 / 2.0, 1e-4);
+  EXPECT_NEAR(f->right_x[3], 400 - camera().bf / 2.0, 1e-4);  // u - bf / z
   EXPECT_LT(f->right_x[0], 0);
   EXPECT_TRUE(f->is_close(3));
   EXPECT_FALSE(f->is_close(4));  // 5 m > th_depth 3.2 m

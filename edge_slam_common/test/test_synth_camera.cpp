@@ -19,7 +19,7 @@ TEST(SynthCamera, IntrinsicsAreTheDocumentedOnes) {
   EXPECT_EQ(c.cy, 239.5);
   EXPECT_FALSE(c.has_distortion());
   EXPECT_EQ(c.depth_factor, 5000.0);
-  EXPECT_NEAR(c.th_depth, 40.0 * 40.0 / 525.0, 1e-12);  // metres in the struct
+  EXPECT_NEAR(c.th_depth, 4.0 * 400.0 / 525.0, 1e-12);  // metres in the struct: 3.05 m, as with bf 40
   EXPECT_EQ(c.fps, 30.0);
 }
 
@@ -42,5 +42,5 @@ TEST(SynthCamera, YamlHasEveryKeyOnce) {
     EXPECT_EQ(y.find(needle, at + 1), std::string::npos) << key;
   }
   EXPECT_NE(y.find("  fps: 15.0 "), std::string::npos);
-  EXPECT_NE(y.find("  th_depth: 40.0 "), std::string::npos);
+  EXPECT_NE(y.find("  th_depth: 4.0 "), std::string::npos);  // baselines: 3.05 m with bf 400
 }

@@ -25,7 +25,7 @@ class CameraConfigTest(unittest.TestCase):
         self.assertEqual((cam['width'], cam['height']), (640, 480))
         self.assertEqual((cam['fx'], cam['fy'], cam['cx'], cam['cy']), (525.0, 525.0, 319.5, 239.5))
         self.assertEqual([cam[k] for k in ('k1', 'k2', 'p1', 'p2', 'k3')], [0.0] * 5)
-        self.assertEqual((cam['bf'], cam['th_depth'], cam['depth_factor']), (40.0, 40.0, 5000.0))
+        self.assertEqual((cam['bf'], cam['th_depth'], cam['depth_factor']), (400.0, 4.0, 5000.0))
         self.assertEqual(cam['rgb_encoding'], 'rgb8')
         self.assertEqual(cam['rolling_shutter_readout'], 0.0)  # the renderer is a global shutter
         self.assertIsInstance(cam['fx'], float)
