@@ -7,7 +7,7 @@
 //
 //   edge_slam_run --dataset <TUM folder> [--camera <yaml>] [--config config/slam.yaml]
 //                 [--vocabulary <file>] --out <dir> [--max-frames N] [--mode monolithic]
-//                 [--pace realtime|none|sync] [--no-mapping] [--no-loop] [--every K]
+//                 [--pace realtime|none|sync] [--rate R] [--no-mapping] [--no-loop] [--every K]
 // --every K tracks only every K-th associated frame (frame-rate robustness tests).
 // --pace sync is the deterministic replay for debugging: frames one by one, and after each
 // one the runner waits until Local-Mapping and Loop-Closing have finished what it gave them,
@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -54,9 +55,11 @@ int usage(const char* msg) {
   if (msg) std::cerr << "edge_slam_run: " << msg << "\n";
   std::cerr << "usage: edge_slam_run --dataset <TUM folder> [--camera <yaml>] [--config <slam.yaml>]\n"
                "                     [--vocabulary <file>] --out <dir> [--max-frames N] [--mode monolithic]\n"
-               "                     [--pace realtime|none|sync] [--no-mapping] [--no-loop] [--every K]\n"
+               "                     [--pace realtime|none|sync] [--rate R] [--no-mapping] [--no-loop] [--every K]\n"
                "  --camera defaults to <dataset>/camera.yaml; --vocabulary to vocabulary/path in the config.\n"
                "  --pace realtime (default) feeds frames at their timestamps, as ORB-SLAM2's runner does;\n"
+               "  --rate R (with --pace realtime) plays R times as fast as recorded (0.5: half speed, as rosbag\n"
+               "  play -r 0.5 in the rostests, so their KeyFrame counts have a monolithic reference);\n"
                "  --pace none as fast as tracking goes; --pace sync (deterministic replay) also waits after\n"
                "  each frame until mapping and loop closing are idle, so a run is reproducible under any load;\n"
                "  there KeyFrame condition 2 sees the mapper busy for --sync-mapping-frames N (5) frames after\n"
@@ -92,7 +95,7 @@ int main(int argc, char** argv) {
   }
   for (const auto& [k, v] : args)
     if (k != "dataset" && k != "camera" && k != "config" && k != "vocabulary" && k != "out" && k != "max-frames" &&
-        k != "mode" && k != "pace" && k != "every" && k != "sync-mapping-frames")
+        k != "mode" && k != "pace" && k != "rate" && k != "every" && k != "sync-mapping-frames")
       return usage(("unknown option --" + k).c_str());
   if (!args.count("dataset")) return usage("--dataset is required");
   if (!args.count("out")) return usage("--out is required");
@@ -103,6 +106,14 @@ int main(int argc, char** argv) {
   if (mode != "monolithic") return usage(("--mode " + mode + ": only monolithic runs in this process").c_str());
   const std::string pace = args.count("pace") ? args["pace"] : "realtime";
   if (pace != "realtime" && pace != "none" && pace != "sync") return usage("--pace takes realtime, none or sync");
+  double rate = 1.0;
+  if (args.count("rate")) {
+    char* end = nullptr;
+    rate = std::strtod(args["rate"].c_str(), &end);
+    if (end == args["rate"].c_str() || *end != '\0' || !(rate > 0.0) || !std::isfinite(rate))
+      return usage(("--rate expects a number > 0, got '" + args["rate"] + "'").c_str());
+    if (pace != "realtime") return usage("--rate only applies to --pace realtime");
+  }
 
   try {
     if (!file_exists(dataset_dir)) throw std::runtime_error("dataset folder '" + dataset_dir + "' does not exist");
@@ -174,7 +185,8 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
       ++processed;
       if (pace == "realtime") {  // do not run ahead of the camera
-        const auto due = wall_start + std::chrono::duration<double>(dataset.frames()[i].rgb_stamp - first_stamp);
+        const auto due =
+            wall_start + std::chrono::duration<double>((dataset.frames()[i].rgb_stamp - first_stamp) / rate);
         std::this_thread::sleep_until(due);
       }
       cv::Mat rgb, depth;
@@ -221,6 +233,7 @@ int main(int argc, char** argv) {
         .text("dataset", dataset_dir)
         .integer("frames", static_cast<long long>(processed))
         .integer("every", every)
+        .number("rate", rate)
         .integer("frames_tracked", c.frames_tracked)
         .integer("times_lost", c.times_lost)
         .integer("relocalizations", c.relocalizations)

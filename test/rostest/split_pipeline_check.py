@@ -62,14 +62,19 @@ class SplitPipelineTest(unittest.TestCase):
 
         # The robot's own pose (TF, odometry), and the mobile's KeyFrame rate: paced by the edge's
         # Local-Mapping (edge_slam/mobile_keyframe_pacing), about the monolithic system's density.
-        # Monolithic real time on this sequence: 156-171 KeyFrames for its 901 frames (README).
+        # The reference is the monolithic system under the same pacing: KeyFrames CREATED (not
+        # those left after culling) at this test's half speed, `edge_slam_run --rate 0.5`:
+        # 283-313 for the 901 frames (3 runs with bf 40, 289-297 with bf 400, 2026-12-03). The
+        # earlier reference, 171 kept at full speed, compared created with kept KeyFrames and
+        # failed on a quick machine (263 made by the mobile, against 283-313 monolithic). The
+        # paper's split made 3 of 4 frames KeyFrames (0.75 per frame); 1.5x this is 0.52.
         # 5 cm, not 2: on this sequence the poses as tracked have a known tail (README, "Fast,
         # blurred motion": in some runs (1 of 3 this stop), tracking jumps 4-8 cm after the
         # look-away turn and stays off until the loop closes; 0.8-1.1 cm otherwise). The bound
         # catches a broken update path (the full-replacement Local-Map gave 12.7 cm); the
         # distribution is measured by `make bench`'s robustness section.
         self.assertLess(online_rmse, 0.05, 'poses as tracked: ATE RMSE %.2f cm' % (online_rmse * 100))
-        monolithic_keyframes_per_frame = 171.0 / 901
+        monolithic_keyframes_per_frame = 313.0 / 901  # created at half speed, worst of the runs above
         self.assertLessEqual(mobile.keyframes_created, 1.5 * monolithic_keyframes_per_frame * matched,
                              'mobile KeyFrames %d for %d tracked frames' % (mobile.keyframes_created, matched))
         self.assertLessEqual(edge.rejected_condition2, 0.15 * max(1, edge.received - edge.duplicates),
