@@ -11,6 +11,7 @@
 #include "edge_slam/io/map_snapshot.h"
 #include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/log.h"
 #include "edge_slam/util/robot_ids.h"
 
 namespace edge_slam {
@@ -87,10 +88,13 @@ void EdgeSession::start_modules() {
       culled_links_.push_back(KeyFrameLink{kf->id(), kf->parent_id(), kf->T_cp().inverse()});
     }
   };
+  if (modules->loop())  // counted for every robot count: KeyFrames made before the mobile heard of it
+    modules->loop()->on_map_moved = [this] { ++map_moves_; };
   if (multi() && modules->loop()) {  // one robot: one group, the paper's loop closing as it was
     modules->loop()->group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
     modules->loop()->on_merge = [this](int from, int into, const Eigen::Isometry3d& T) { frames_.merge(from, into, T); };
     modules->loop()->on_map_moved = [this] {
+      ++map_moves_;
       std::map<uint32_t, Eigen::Isometry3d> poses;
       for (const auto& k : map_->keyframes())
         if (!k->is_bad()) poses.emplace(k->id(), k->T_cw());
@@ -197,12 +201,29 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     // The robot's frame -> the coordinates its map is stored in, read under the map lock: a
     // merge moves the map and re-labels the groups under it, so nothing arrives in between.
     const Eigen::Isometry3d T_group_robot = frames_.placement(robot).T_group_robot;
-    const bool moved = !T_group_robot.isApprox(Eigen::Isometry3d::Identity());
+    // Then, if the mobile made it before hearing of a correction, onto its parent's new pose.
+    Eigen::Isometry3d T_move = T_group_robot;
+    // What the mobile knows of this KeyFrame: its pose as sent. A re-anchored one keeps its
+    // parent's count of corrections, so its children (made in the same stale frame) follow too.
+    MobileKeyFrameView own{kf->T_cw(), rs.next_update_seq, map_moves_};
+    const auto view = r.parent_id == kNoId ? rs.mobile_views.end() : rs.mobile_views.find(r.parent_id);
+    const auto parent = view == rs.mobile_views.end() ? nullptr : map_->keyframe(r.parent_id);
+    if (parent && !parent->is_bad())
+      if (const auto M = late_keyframe_correction(view->second, T_group_robot, parent->T_cw(), rs.next_update_seq,
+                                                  map_moves_)) {
+        T_move = *M * T_group_robot;
+        own.map_moves = view->second.map_moves;
+        ++rs.counters.reanchored_after_correction;
+        log_info(log_text("KeyFrame ", kf->id(), " was made before a correction reached the mobile: re-anchored on its "
+            "parent ", r.parent_id, " (moved ", M->translation().norm() * 100, " cm)"));
+      }
+    rs.mobile_views[kf->id()] = own;
+    const bool moved = !T_move.isApprox(Eigen::Isometry3d::Identity());
     const uint64_t pass = (uint64_t{1} << 41) + ++transform_passes_;
-    if (moved) kf->set_pose(kf->T_cw() * T_group_robot.inverse());
+    if (moved) kf->set_pose(kf->T_cw() * T_move.inverse());
     for (const auto& mp : new_points) {
       if (map_->map_point(mp->id())) continue;  // already known: keep the edge's version
-      if (moved) mp->transform_once(T_group_robot, pass);
+      if (moved) mp->transform_once(T_move, pass);
       map_->add_map_point(mp);
     }
     // Points of refused KeyFrames this one observes join the Global-Map now, with this KeyFrame
@@ -214,7 +235,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
       const auto pending = rs.pending_points.find(ids[i]);
       if (pending != rs.pending_points.end()) {
         pending->second->set_reference_kf_id(kf->id());
-        if (moved) pending->second->transform_once(T_group_robot, pass);
+        if (moved) pending->second->transform_once(T_move, pass);
         map_->add_map_point(pending->second);
         rs.pending_points.erase(pending);
         ++rs.counters.pending_points_adopted;
@@ -309,6 +330,7 @@ std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now, i
   MapUpdateRecord u = pack_update(newest, robot);
   u.kind = MapUpdateKind::kPeriodic;
   u.seq = rs.next_update_seq++;
+  rs.mobile_views.clear();  // the update changes the mobile's poses: none of these views holds any more
   u.build_start = now;
   u.last_keyframe_seq = rs.counters.last_seq;
   ++rs.counters.updates_built;
@@ -349,6 +371,7 @@ std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const Fr
   MapUpdateRecord u = pack_update(kfs, robot);
   u.kind = MapUpdateKind::kRelocalization;
   u.seq = rs.next_update_seq++;
+  rs.mobile_views.clear();  // as after a periodic update
   u.request_frame_id = fr.id;
   u.build_start = now;
   u.last_keyframe_seq = rs.counters.last_seq;
@@ -363,6 +386,7 @@ void EdgeSession::clear_robot(RobotState& rs) {
   rs.inserted_ids.clear();
   rs.pending_points.clear();
   rs.pending_order.clear();
+  rs.mobile_views.clear();
   rs.any_inserted = false;
   rs.relocalization_sent = false;
 }

@@ -21,6 +21,7 @@
 #include "edge_slam/module/edge_keyframe_decision.h"
 #include "edge_slam/module/keyframe_decision.h"
 #include "edge_slam/module/keyframe_receipts.h"
+#include "edge_slam/module/late_keyframe_anchor.h"
 #include "edge_slam/module/mapping_threads.h"
 #include "edge_slam/module/module_metrics.h"
 #include "edge_slam/module/robot_frames.h"
@@ -90,6 +91,7 @@ struct EdgeCounters {
   bool mapper_busy_elsewhere = false;  // Local-Mapping holds another robot's KeyFrame (several mobiles)
   uint64_t pending_points_adopted = 0;  // points of refused KeyFrames taken in by a later one
   uint64_t weak_tracking_inserted = 0;  // inserted while Local-Mapping was busy: condition 2's weak clause
+  uint64_t reanchored_after_correction = 0;  // made before the mobile heard of a correction (late_keyframe_anchor.h)
 };
 
 class EdgeSession {
@@ -163,6 +165,9 @@ class EdgeSession {
     // in the robot's own frame (moved into the Global-Map's when adopted).
     std::unordered_map<uint32_t, std::shared_ptr<MapPoint>> pending_points;
     std::deque<uint32_t> pending_order;
+    // The robot's KeyFrames as received since the last update was built (none before it is
+    // used: module/late_keyframe_anchor.h).
+    std::unordered_map<uint32_t, MobileKeyFrameView> mobile_views;
   };
   void reset_locked(int robot);
   void clear_robot(RobotState& rs);
@@ -187,6 +192,9 @@ class EdgeSession {
   std::vector<MergeEvent> merges_locked() const;  // mutex_ held
   RobotFrames frames_;
   uint64_t transform_passes_ = 0;  // MapPoint::transform_once passes of received points
+  // Corrections applied to the map (loop, merge, full BA; LoopClosing::on_map_moved, called and
+  // read under the map's update mutex).
+  uint64_t map_moves_ = 0;
   mutable std::mutex culled_mutex_;        // culled_* are written by the Local-Mapping thread
   std::vector<uint32_t> culled_ids_;
   std::vector<KeyFrameLink> culled_links_;  // of the KeyFrames culled since the last reset or load

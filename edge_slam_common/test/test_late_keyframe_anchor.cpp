@@ -1,0 +1,53 @@
+// late_keyframe_correction: a KeyFrame made in the mobile's uncorrected frame lands on its
+// parent's corrected pose with the relative pose the mobile measured; nothing moves when the
+// mobile's view of the parent is not known exactly or no correction happened since.
+#include <gtest/gtest.h>
+
+#include "edge_slam/module/late_keyframe_anchor.h"
+
+using namespace edge_slam;
+
+namespace {
+Eigen::Isometry3d pose(double yaw, double x, double y, double z) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(x, y, z);
+  return T;
+}
+}  // namespace
+
+TEST(LateKeyFrameAnchor, NewKeyFrameFollowsItsCorrectedParent) {
+  const Eigen::Isometry3d parent_then = pose(0.3, 0.5, 0.1, -1.0);        // T_cw as the mobile sent it
+  const Eigen::Isometry3d correction = pose(0.02, 0.07, -0.01, 0.03);      // the loop's, world -> world
+  const Eigen::Isometry3d parent_now = parent_then * correction.inverse(); // the edge moved it
+  const Eigen::Isometry3d relative = pose(-0.05, 0.02, 0.0, 0.04);         // parent -> new KeyFrame
+  const Eigen::Isometry3d kf_then = relative * parent_then;
+  MobileKeyFrameView view{parent_then, 7, 3};
+  const auto M = late_keyframe_correction(view, Eigen::Isometry3d::Identity(), parent_now, 7, 5);
+  ASSERT_TRUE(M.has_value());
+  const Eigen::Isometry3d kf_now = kf_then * M->inverse();
+  EXPECT_TRUE((kf_now * parent_now.inverse()).isApprox(relative, 1e-9)) << "relative pose kept";
+  EXPECT_TRUE(M->isApprox(correction, 1e-9)) << "points move by the parent's correction";
+  const Eigen::Vector3d X(1.0, -0.2, 3.0);  // a new point seen by the KeyFrame: same camera coordinates
+  EXPECT_TRUE((kf_now * (*M * X)).isApprox(kf_then * X, 1e-9));
+}
+
+TEST(LateKeyFrameAnchor, RobotFrameIsAppliedToTheMobileView) {
+  const Eigen::Isometry3d T_group_robot = pose(0.5, 1.0, 0.0, 2.0);
+  const Eigen::Isometry3d parent_robot = pose(0.1, 0.0, 0.2, 0.3);
+  const Eigen::Isometry3d parent_group = parent_robot * T_group_robot.inverse();  // as insertion converts
+  // The map moved (e.g. a merge) but the parent sits where the robot frame puts it: no correction.
+  const auto M = late_keyframe_correction({parent_robot, 2, 0}, T_group_robot, parent_group, 2, 1);
+  ASSERT_TRUE(M.has_value());
+  EXPECT_TRUE(M->isApprox(Eigen::Isometry3d::Identity(), 1e-9));
+}
+
+TEST(LateKeyFrameAnchor, NothingWhenAnUpdateWasBuiltOrNoCorrectionHappened) {
+  const Eigen::Isometry3d parent = pose(0.3, 0.5, 0.1, -1.0);
+  const Eigen::Isometry3d moved = parent * pose(0.02, 0.07, 0, 0).inverse();
+  const MobileKeyFrameView view{parent, 4, 10};
+  EXPECT_FALSE(late_keyframe_correction(view, Eigen::Isometry3d::Identity(), moved, 5, 12).has_value())
+      << "an update was built since: the mobile's parent pose is no longer the one received";
+  EXPECT_FALSE(late_keyframe_correction(view, Eigen::Isometry3d::Identity(), moved, 4, 10).has_value())
+      << "no correction since (local BA alone does not count)";
+}
