@@ -88,18 +88,21 @@ void EdgeSession::start_modules() {
       culled_links_.push_back(KeyFrameLink{kf->id(), kf->parent_id(), kf->T_cp().inverse()});
     }
   };
-  if (modules->loop())  // counted for every robot count: KeyFrames made before the mobile heard of it
-    modules->loop()->on_map_moved = [this] { ++map_moves_; };
-  if (multi() && modules->loop()) {  // one robot: one group, the paper's loop closing as it was
-    modules->loop()->group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
-    modules->loop()->on_merge = [this](int from, int into, const Eigen::Isometry3d& T) { frames_.merge(from, into, T); };
+  if (modules->loop()) {
+    // Every correction is counted (KeyFrames made before the mobile heard of one are re-anchored,
+    // module/late_keyframe_anchor.h); with several robots each robot's frame also follows its anchor.
     modules->loop()->on_map_moved = [this] {
       ++map_moves_;
+      if (!multi()) return;
       std::map<uint32_t, Eigen::Isometry3d> poses;
       for (const auto& k : map_->keyframes())
         if (!k->is_bad()) poses.emplace(k->id(), k->T_cw());
       frames_.follow_anchors(poses);
     };
+  }
+  if (multi() && modules->loop()) {  // one robot: one group, the paper's loop closing as it was
+    modules->loop()->group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
+    modules->loop()->on_merge = [this](int from, int into, const Eigen::Isometry3d& T) { frames_.merge(from, into, T); };
   }
   modules->start();
   modules_ = std::move(modules);
