@@ -4,23 +4,17 @@
 #include <gtest/gtest.h>
 
 #include "edge_slam/module/late_keyframe_anchor.h"
+#include "support/yaw_pose.h"
 
 using namespace edge_slam;
 
-namespace {
-Eigen::Isometry3d pose(double yaw, double x, double y, double z) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(x, y, z);
-  return T;
-}
-}  // namespace
+using test_support::yaw_pose;
 
 TEST(LateKeyFrameAnchor, NewKeyFrameFollowsItsCorrectedParent) {
-  const Eigen::Isometry3d parent_then = pose(0.3, 0.5, 0.1, -1.0);        // T_cw as the mobile sent it
-  const Eigen::Isometry3d correction = pose(0.02, 0.07, -0.01, 0.03);      // the loop's, world -> world
+  const Eigen::Isometry3d parent_then = yaw_pose(0.5, 0.1, -1.0, 0.3);        // T_cw as the mobile sent it
+  const Eigen::Isometry3d correction = yaw_pose(0.07, -0.01, 0.03, 0.02);      // the loop's, world -> world
   const Eigen::Isometry3d parent_now = parent_then * correction.inverse(); // the edge moved it
-  const Eigen::Isometry3d relative = pose(-0.05, 0.02, 0.0, 0.04);         // parent -> new KeyFrame
+  const Eigen::Isometry3d relative = yaw_pose(0.02, 0.0, 0.04, -0.05);         // parent -> new KeyFrame
   const Eigen::Isometry3d kf_then = relative * parent_then;
   MobileKeyFrameView view{parent_then, 7, 3};
   const auto M = late_keyframe_correction(view, Eigen::Isometry3d::Identity(), parent_now, 7, 5);
@@ -33,8 +27,8 @@ TEST(LateKeyFrameAnchor, NewKeyFrameFollowsItsCorrectedParent) {
 }
 
 TEST(LateKeyFrameAnchor, RobotFrameIsAppliedToTheMobileView) {
-  const Eigen::Isometry3d T_group_robot = pose(0.5, 1.0, 0.0, 2.0);
-  const Eigen::Isometry3d parent_robot = pose(0.1, 0.0, 0.2, 0.3);
+  const Eigen::Isometry3d T_group_robot = yaw_pose(1.0, 0.0, 2.0, 0.5);
+  const Eigen::Isometry3d parent_robot = yaw_pose(0.0, 0.2, 0.3, 0.1);
   const Eigen::Isometry3d parent_group = parent_robot * T_group_robot.inverse();  // as insertion converts
   // The map moved (e.g. a merge) but the parent sits where the robot frame puts it: no correction.
   const auto M = late_keyframe_correction({parent_robot, 2, 0}, T_group_robot, parent_group, 2, 1);
@@ -43,8 +37,8 @@ TEST(LateKeyFrameAnchor, RobotFrameIsAppliedToTheMobileView) {
 }
 
 TEST(LateKeyFrameAnchor, NothingWhenAnUpdateWasBuiltOrNoCorrectionHappened) {
-  const Eigen::Isometry3d parent = pose(0.3, 0.5, 0.1, -1.0);
-  const Eigen::Isometry3d moved = parent * pose(0.02, 0.07, 0, 0).inverse();
+  const Eigen::Isometry3d parent = yaw_pose(0.5, 0.1, -1.0, 0.3);
+  const Eigen::Isometry3d moved = parent * yaw_pose(0.07, 0, 0, 0.02).inverse();
   const MobileKeyFrameView view{parent, 4, 10};
   EXPECT_FALSE(late_keyframe_correction(view, Eigen::Isometry3d::Identity(), moved, 5, 12).has_value())
       << "an update was built since: the mobile's parent pose is no longer the one received";

@@ -6,15 +6,13 @@
 
 #include "edge_slam/module/robot_frames.h"
 #include "edge_slam/util/robot_ids.h"
+#include "support/yaw_pose.h"
 
 namespace edge_slam {
 namespace {
 
 Eigen::Isometry3d pose(double x, double y, double z, double yaw_deg) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(x, y, z);
-  return T;
+  return test_support::yaw_pose(x, y, z, yaw_deg * M_PI / 180.0);
 }
 
 bool near(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) { return a.isApprox(b, 1e-9); }

@@ -9,16 +9,13 @@
 
 #include "edge_slam/data/trajectory_anchors.h"
 #include "edge_slam/io/anchors_file.h"
+#include "support/yaw_pose.h"
 
 namespace edge_slam {
 namespace {
 
-Eigen::Isometry3d pose(double x, double y, double z, double yaw) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(x, y, z);
-  return T;
-}
+using test_support::yaw_pose;
+Eigen::Isometry3d pose(double x, double y, double z, double yaw) { return yaw_pose(x, y, z, yaw); }
 
 FrameAnchor frame(double stamp, uint32_t reference, const Eigen::Isometry3d& T_ref_c) {
   return FrameAnchor{stamp, reference, T_ref_c};
