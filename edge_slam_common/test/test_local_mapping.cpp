@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "edge_slam/data/keyframe_database.h"
@@ -168,6 +169,9 @@ TEST(MapPointCulling, AnObservationWithDepthCountsTwice) {
   const auto pair = make_point(map, kf0, stereo[1], w.points[v0.physical[stereo[1]]]);
   add_observation(map.keyframe(1), stereo[1], pair);  // same view: weight 4
   EXPECT_EQ(pair->weighted_observations(map), 4);
+  // The capped count KeyFrame condition 4 uses: the same figure up to the cap, never above it.
+  for (int cap : {0, 1, 2, 3, 4, 5, 16, 17}) EXPECT_EQ(pair->weighted_observations_capped(map, cap), std::min(cap, 4)) << cap;
+  for (int cap : {1, 2, 3}) EXPECT_EQ(alone->weighted_observations_capped(map, cap), std::min(cap, 2)) << cap;
   RecentMapPoints recent;
   recent.add(alone->id(), kf0->id());
   recent.add(pair->id(), kf0->id());

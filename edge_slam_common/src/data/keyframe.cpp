@@ -76,7 +76,7 @@ std::vector<std::shared_ptr<MapPoint>> KeyFrame::map_points(const Map& map) cons
 int KeyFrame::tracked_map_points(const Map& map, int min_obs, bool depth_counts_twice) const {
   int n = 0;
   for (const auto& mp : map_points(map))
-    if (mp && (depth_counts_twice ? mp->weighted_observations(map) : mp->num_observations()) >= min_obs) ++n;
+    if (mp && (depth_counts_twice ? mp->weighted_observations_capped(map, min_obs) : mp->num_observations()) >= min_obs) ++n;
   return n;
 }
 
@@ -84,8 +84,10 @@ void KeyFrame::update_connections(const Map& map) {
   std::unordered_map<uint32_t, int> counts;
   for (const auto& mp : map_points(map)) {
     if (!mp) continue;
-    for (const auto& obs : mp->observations())
-      if (obs.first != id_) ++counts[obs.first];
+    // Visited in place: a copy of each point's observation map was most of this function's cost.
+    mp->for_each_observation([&](uint32_t kf_id, int) {
+      if (kf_id != id_) ++counts[kf_id];
+    });
   }
   if (counts.empty()) return;
 

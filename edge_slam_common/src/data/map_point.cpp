@@ -105,6 +105,25 @@ int MapPoint::weighted_observations(const Map& map) const {
   return n;
 }
 
+int MapPoint::weighted_observations_capped(const Map& map, int cap) const {
+  constexpr int kMaxCap = 16;  // the first observations are copied to the stack, not the heap
+  if (cap <= 0) return 0;
+  if (cap > kMaxCap) return std::min(weighted_observations(map), cap);
+  std::pair<uint32_t, int> first[kMaxCap];
+  int n = 0;
+  {
+    std::lock_guard<std::mutex> lock(features_mutex_);
+    for (const auto& obs : observations_) {
+      if (n == cap) break;
+      first[n++] = obs;
+    }
+  }
+  // The keyframes are looked up outside the point's lock (the map has its own).
+  int w = 0;
+  for (int i = 0; i < n && w < cap; ++i) w += observation_weight(map.keyframe(first[i].first).get(), first[i].second);
+  return std::min(w, cap);
+}
+
 int MapPoint::index_in(uint32_t kf_id) const {
   std::lock_guard<std::mutex> lock(features_mutex_);
   const auto it = observations_.find(kf_id);

@@ -67,6 +67,11 @@ class MapPoint {
   // Observations counted as ORB-SLAM2 does for RGB-D: 2 for a keypoint with depth (a
   // virtual stereo measurement), 1 otherwise; observing keyframes missing from `map` count 1.
   int weighted_observations(const Map& map) const;
+  // min(weighted_observations(map), cap) without visiting more observations than needed: each
+  // weighs at least 1, so the first `cap` decide it. Tracking asks this of every reference
+  // KeyFrame point on every frame (KeyFrame condition 4), where the full count copied the
+  // observation map and looked up every observer: ~1 ms per frame on fr1_rpy.
+  int weighted_observations_capped(const Map& map, int cap) const;
   int index_in(uint32_t kf_id) const;  // -1 when not observed by that keyframe
 
   uint32_t reference_kf_id() const;
