@@ -115,6 +115,11 @@ TEST(Config, ShippedConfigsLoad) {
   EXPECT_EQ(load_tracking_params(mobile).conditions, KeyFrameConditionSet::kMobile);
   mobile.set("tracking/keyframe_conditions", "sometimes");
   EXPECT_NE(error_of([&] { load_tracking_params(mobile); }).find("keyframe_conditions"), std::string::npos);
+  // The edge's re-anchoring of late KeyFrames is on as shipped; false restores the paper's insertion as received.
+  EXPECT_TRUE(load_edge_session_params(slam).reanchor_late_keyframes);
+  ConfigMap paper = slam;
+  paper.set("edge_slam/reanchor_late_keyframes", "false");
+  EXPECT_FALSE(load_edge_session_params(paper).reanchor_late_keyframes);
 }
 
 TEST(Config, LocalMappingSectionLoadsAndRejectsBadValues) {

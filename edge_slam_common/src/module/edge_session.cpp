@@ -43,6 +43,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
                              "', expected one of newest, covisible");
   p.keyframe = load_keyframe_decision_params(cfg);  // conditions 1-2: the tracker's own settings
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
+  p.reanchor_late_keyframes = cfg.get_bool_or("edge_slam/reanchor_late_keyframes", true);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
   // The edge hosts Local-Mapping: the same "local_mapping:" section the monolithic runner reads.
   p.mapping = load_local_mapping_params(cfg);
@@ -211,7 +212,7 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     MobileKeyFrameView own{kf->T_cw(), rs.next_update_seq, map_moves_};
     const auto view = r.parent_id == kNoId ? rs.mobile_views.end() : rs.mobile_views.find(r.parent_id);
     const auto parent = view == rs.mobile_views.end() ? nullptr : map_->keyframe(r.parent_id);
-    if (parent && !parent->is_bad())
+    if (params_.reanchor_late_keyframes && parent && !parent->is_bad())
       if (const auto M = late_keyframe_correction(view->second, T_group_robot, parent->T_cw(), rs.next_update_seq,
                                                   map_moves_)) {
         T_move = *M * T_group_robot;

@@ -59,6 +59,9 @@ struct EdgeSessionParams {
   // outage or an edge restart: it is queued for Local-Mapping instead, or the map would lose
   // the whole stretch the mobile tracked meanwhile. 0 = always apply condition 2 (paper).
   double late_keyframe_age = 1.0;
+  // A KeyFrame the mobile made after a correction moved its parent, before an update told it,
+  // follows its parent's correction (module/late_keyframe_anchor.h); false = inserted as received (the paper).
+  bool reanchor_late_keyframes = true;
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
   size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
   double update_period = 5.0;               // seconds between periodic Local-Map updates
