@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <unordered_map>
+#include <vector>
 
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/module/loop_closing.h"
@@ -91,6 +92,8 @@ TEST(LoopClosing, DetectsAndCorrectsInjectedDriftOnARing) {
   double before_max = 0, before_last = position_error(*ring.kfs.back(), kKeyFrames - 1);
   for (int i = 0; i < kKeyFrames; ++i) before_max = std::max(before_max, position_error(*ring.kfs[i], i));
   const double before_mid = position_error(*ring.kfs[kKeyFrames / 2], kKeyFrames / 2);
+  std::vector<double> drift(kKeyFrames);
+  for (int i = 0; i < kKeyFrames; ++i) drift[i] = position_error(*ring.kfs[i], i);
   ASSERT_GT(before_last, 0.1);
   // No covisibility across the loop before it is closed.
   EXPECT_EQ(ring.kfs.back()->weight(ring.kfs[0]->id()), 0);
@@ -109,6 +112,11 @@ TEST(LoopClosing, DetectsAndCorrectsInjectedDriftOnARing) {
   EXPECT_LT(e.loop_kf_id, 8u);
   EXPECT_GE(e.matches, 40);
   EXPECT_TRUE(e.correction.ok) << e.correction.message;
+  // The report says how far the loop moved the closing keyframe: the drift injected there (the
+  // loop keyframe's own small drift aside), and that none of its group was on the loop side.
+  EXPECT_NEAR(e.correction.current_shift_m, drift[closed_at], 0.25 * drift[closed_at]);
+  EXPECT_GT(e.correction.current_shift_deg, 0.0);
+  EXPECT_EQ(e.correction.group_on_loop_side, 0);
   EXPECT_EQ(loop.full_ba_runs(), 1);
   EXPECT_TRUE(ring.kfs[closed_at]->loop_edges().count(e.loop_kf_id));
 

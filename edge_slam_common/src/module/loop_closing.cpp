@@ -146,7 +146,8 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   log_info(log_text("[loop] ", (merge ? "maps merged" : "loop closed"), ": KF ", kf->id(), " <-> KF ",
       match.loop_kf->id(), ", ", match.num_matches, " matches (", report.group_keyframes, " KFs corrected, ",
       report.fused_points, " points fused, ", report.new_loop_links, " new links, ", report.message, ", cost ",
-      report.graph_initial_cost, " -> ", report.graph_final_cost, ")"));
+      report.graph_initial_cost, " -> ", report.graph_final_cost, "; current KF moved ", report.current_shift_m * 100, " cm ",
+      report.current_shift_deg, " deg; ", report.group_on_loop_side, " of its group on the loop side)"));
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     if (merge)

@@ -1,5 +1,6 @@
 #include "edge_slam/module/loop_corrector.h"
 
+#include <cmath>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -69,6 +70,14 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     if (g && !g->is_bad()) group.push_back(std::move(g));
   }
   const Eigen::Isometry3d T_wc_current = kf->T_wc();
+  {
+    const Eigen::Isometry3d shift = loop.T_cw_corrected * T_wc_current;
+    report.current_shift_m = (loop.T_cw_corrected.inverse().translation() - T_wc_current.translation()).norm();
+    report.current_shift_deg = Eigen::AngleAxisd(shift.rotation()).angle() * 180.0 / M_PI;
+    std::set<uint32_t> loop_side{loop.loop_kf->id()};
+    for (uint32_t id : loop.loop_kf->ordered_neighbours()) loop_side.insert(id);
+    for (const auto& g : group) report.group_on_loop_side += loop_side.count(g->id()) ? 1 : 0;
+  }
   PoseById uncorrected, corrected;
   for (const auto& g : group) {
     uncorrected[g->id()] = g->T_cw();

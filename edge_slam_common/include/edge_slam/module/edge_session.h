@@ -171,6 +171,9 @@ class EdgeSession {
     // The robot's KeyFrames as received since the last update was built (none before it is
     // used: module/late_keyframe_anchor.h).
     std::unordered_map<uint32_t, MobileKeyFrameView> mobile_views;
+    // Largest distance so far between a parent KeyFrame's camera on the edge and where the mobile had it when it
+    // made a child (local BA and corrections since the last update): logged when it grows past 3 cm.
+    double largest_parent_divergence_m = 0.03;
   };
   void reset_locked(int robot);
   void clear_robot(RobotState& rs);

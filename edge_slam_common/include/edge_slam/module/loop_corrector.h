@@ -30,6 +30,12 @@ struct LoopCorrectionReport {
   int new_loop_links = 0;
   int graph_edges = 0;
   double graph_initial_cost = 0, graph_final_cost = 0;
+  // How far the loop moves the current keyframe (its camera centre, its rotation): the drift the
+  // loop claims. Compared with the drift the online poses show, it tells a wrong loop transform.
+  double current_shift_m = 0, current_shift_deg = 0;
+  // Keyframes of the current keyframe's covisible group that are also the loop keyframe or its
+  // covisibles: moved as "current side" although they belong to the loop side.
+  int group_on_loop_side = 0;
 };
 
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
