@@ -212,25 +212,27 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     MobileKeyFrameView own{kf->T_cw(), rs.next_update_seq, map_moves_};
     const auto view = r.parent_id == kNoId ? rs.mobile_views.end() : rs.mobile_views.find(r.parent_id);
     const auto parent = view == rs.mobile_views.end() ? nullptr : map_->keyframe(r.parent_id);
-    if (parent && !parent->is_bad() && view->second.update_seq == rs.next_update_seq) {
-      const Eigen::Isometry3d T_cw_then = view->second.T_cw_robot * T_group_robot.inverse();
-      const double divergence = (parent->T_wc().translation() - T_cw_then.inverse().translation()).norm();
-      if (divergence > rs.largest_parent_divergence_m) {
-        rs.largest_parent_divergence_m = divergence;
-        log_info(log_text("KeyFrame ", kf->id(), ": its parent ", r.parent_id, " is ", divergence * 100,
-            " cm from where the mobile has it (", map_moves_ == view->second.map_moves ? "local BA only" : "after a correction",
-            ")"));
+    if (parent && !parent->is_bad()) {
+      // Instrumentation: how far edge local BA has moved the parent from the mobile's view.
+      if (const auto T_cw_then = mobile_pose_in_map(view->second, T_group_robot, rs.next_update_seq)) {
+        const double divergence = (parent->T_wc().translation() - T_cw_then->inverse().translation()).norm();
+        if (divergence > rs.largest_parent_divergence_m) {
+          rs.largest_parent_divergence_m = divergence;
+          log_info(log_text("KeyFrame ", kf->id(), ": its parent ", r.parent_id, " is ", divergence * 100,
+              " cm from where the mobile has it (",
+              map_moves_ == view->second.map_moves ? "local BA only" : "after a correction", ")"));
+        }
       }
+      if (params_.reanchor_late_keyframes)
+        if (const auto M = late_keyframe_correction(view->second, T_group_robot, parent->T_cw(), rs.next_update_seq,
+                                                    map_moves_)) {
+          T_move = *M * T_group_robot;
+          own.map_moves = view->second.map_moves;
+          ++rs.counters.reanchored_after_correction;
+          log_info(log_text("KeyFrame ", kf->id(), " was made before a correction reached the mobile: re-anchored "
+              "on its parent ", r.parent_id, " (moved ", M->translation().norm() * 100, " cm)"));
+        }
     }
-    if (params_.reanchor_late_keyframes && parent && !parent->is_bad())
-      if (const auto M = late_keyframe_correction(view->second, T_group_robot, parent->T_cw(), rs.next_update_seq,
-                                                  map_moves_)) {
-        T_move = *M * T_group_robot;
-        own.map_moves = view->second.map_moves;
-        ++rs.counters.reanchored_after_correction;
-        log_info(log_text("KeyFrame ", kf->id(), " was made before a correction reached the mobile: re-anchored on its "
-            "parent ", r.parent_id, " (moved ", M->translation().norm() * 100, " cm)"));
-      }
     rs.mobile_views[kf->id()] = own;
     const bool moved = !T_move.isApprox(Eigen::Isometry3d::Identity());
     const uint64_t pass = (uint64_t{1} << 41) + ++transform_passes_;

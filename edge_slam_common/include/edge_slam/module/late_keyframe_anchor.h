@@ -24,6 +24,16 @@ struct MobileKeyFrameView {
   uint64_t map_moves = 0;   // the edge's count of corrections applied when it was received
 };
 
+// The parent's pose (T_cw) as the mobile had it, in the map's coordinates now, or nullopt when
+// an update has been built for the robot since it was received (the mobile's poses then change
+// by rules the edge does not replay, so its view is no longer known).
+inline std::optional<Eigen::Isometry3d> mobile_pose_in_map(const MobileKeyFrameView& view,
+                                                           const Eigen::Isometry3d& T_group_robot,
+                                                           uint64_t update_seq_now) {
+  if (view.update_seq != update_seq_now) return std::nullopt;
+  return view.T_cw_robot * T_group_robot.inverse();
+}
+
 // The world -> world motion M (X' = M X; a pose T_cw becomes T_cw M^-1) that carries a new
 // KeyFrame and its new points from the mobile's uncorrected view onto its parent's corrected
 // pose, or nullopt when nothing is to be done or the mobile's view is not known.
@@ -33,10 +43,11 @@ inline std::optional<Eigen::Isometry3d> late_keyframe_correction(const MobileKey
                                                                  const Eigen::Isometry3d& T_group_robot,
                                                                  const Eigen::Isometry3d& T_cw_parent_now,
                                                                  uint64_t update_seq_now, uint64_t map_moves_now) {
-  if (parent_view.update_seq != update_seq_now || parent_view.map_moves == map_moves_now) return std::nullopt;
+  if (parent_view.map_moves == map_moves_now) return std::nullopt;
   // The mobile's parent pose in the map's coordinates, converted as the new KeyFrame is.
-  const Eigen::Isometry3d T_cw_parent_then = parent_view.T_cw_robot * T_group_robot.inverse();
-  return T_cw_parent_now.inverse() * T_cw_parent_then;
+  const auto T_cw_parent_then = mobile_pose_in_map(parent_view, T_group_robot, update_seq_now);
+  if (!T_cw_parent_then) return std::nullopt;
+  return T_cw_parent_now.inverse() * *T_cw_parent_then;
 }
 
 }  // namespace edge_slam
