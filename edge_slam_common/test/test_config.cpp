@@ -6,6 +6,7 @@
 #include "edge_slam/camera/camera_loader.h"
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/module/edge_session.h"
+#include "edge_slam/module/loop_verifier.h"
 #include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/tracking_params.h"
 
@@ -120,6 +121,24 @@ TEST(Config, ShippedConfigsLoad) {
   ConfigMap paper = slam;
   paper.set("edge_slam/reanchor_late_keyframes", "false");
   EXPECT_FALSE(load_edge_session_params(paper).reanchor_late_keyframes);
+}
+
+TEST(Config, LoopVerificationLoadsForTheEdgeAndTheRunner) {
+  const ConfigMap slam = ConfigMap::load("../config/slam.yaml");
+  ASSERT_TRUE(slam.has("loop_closing/verify_with_depth"));  // documented in the shipped file
+  ASSERT_TRUE(slam.has("loop_closing/refine_on_loop_group"));
+  const LoopVerifierParams v = load_loop_verifier_params(slam);
+  EXPECT_TRUE(v.refine_with_depth);
+  EXPECT_TRUE(v.refine_on_loop_group);
+  // The edge hosts loop closing: the same keys reach its loop verifier.
+  ConfigMap orb = slam;
+  orb.set("loop_closing/verify_with_depth", "false");
+  orb.set("loop_closing/refine_on_loop_group", "false");
+  const EdgeSessionParams edge = load_edge_session_params(orb);
+  EXPECT_FALSE(edge.loop.verifier.refine_with_depth);
+  EXPECT_FALSE(edge.loop.verifier.refine_on_loop_group);
+  orb.set("loop_closing/verify_with_depth", "sometimes");
+  EXPECT_NE(error_of([&] { load_loop_verifier_params(orb); }).find("verify_with_depth"), std::string::npos);
 }
 
 TEST(Config, LocalMappingSectionLoadsAndRejectsBadValues) {

@@ -162,6 +162,7 @@ int main(int argc, char** argv) {
     options.local_mapping = !no_mapping;
     options.loop_closing = !no_mapping && !no_loop;
     options.mapping = load_local_mapping_params(cfg);
+    options.loop.verifier = load_loop_verifier_params(cfg);
     options.final_full_ba_iterations = runner.final_full_ba_iterations;
     // Deterministic replay: condition 2 sees a mapper that needs this many frames per KeyFrame.
     if (pace == "sync") options.simulated_mapping_frames = count_arg("sync-mapping-frames", 5, 1);

@@ -47,6 +47,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
   // The edge hosts Local-Mapping: the same "local_mapping:" section the monolithic runner reads.
   p.mapping = load_local_mapping_params(cfg);
+  p.loop.verifier = load_loop_verifier_params(cfg);
   return p;
 }
 

@@ -102,6 +102,17 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     log_info(log_text("[loop] KF ", kf->id(), ": ", candidates.size(),
         " consistent candidate(s) failed verification\n", why));
   if (!found) return false;
+  if (debug_) {
+    // Poses at verification (camera in world, TUM order), to be compared with ground truth offline.
+    auto pose = [](const Eigen::Isometry3d& T_wc) {
+      const Eigen::Quaterniond q(T_wc.rotation());
+      return log_text(T_wc.translation().x(), " ", T_wc.translation().y(), " ", T_wc.translation().z(), " ", q.x(),
+                      " ", q.y(), " ", q.z(), " ", q.w());
+    };
+    log_info(log_text("[loop-debug] ", kf->id(), " ", std::to_string(kf->stamp()), " ", pose(kf->T_wc()), " | ",
+        match.loop_kf->id(), " ", std::to_string(match.loop_kf->stamp()), " ", pose(match.loop_kf->T_wc()), " | ",
+        pose(match.T_cw_corrected.inverse()), " | ", pose(match.T_cw_aligned.inverse())));
+  }
 
   const auto t1 = Clock::now();
   stop_full_ba();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "edge_slam/io/config_file.h"
 #include "edge_slam/match/keyframe_search.h"
 #include "edge_slam/optimize/relative_pose_optimizer.h"
 #include "edge_slam/solve/se3_alignment.h"
@@ -38,6 +39,42 @@ double pair_tolerance(const FrameFeatures& f1, size_t i1, double z1, const Frame
   const double s1 = f1.pyramid->scale_factors[f1.keys_un[i1].octave];
   const double s2 = f2.pyramid->scale_factors[f2.keys_un[i2].octave];
   return 3.0 * (s1 * z1 + s2 * z2) / f1.camera.fx + 0.01 * (z1 + z2);
+}
+
+// The relative pose refined once more on every match with the loop group: the first
+// refinement sees only the points both keyframes observe, a few dozen in one patch of the image;
+// the group's points are 2-5 times as many and spread wider. A match whose loop-side point the
+// loop keyframe observes, and whose current keypoint has a point, keeps both terms; the others
+// (points of the loop keyframe's neighbours) give the one term, seen in the current keyframe.
+// Kept only when it keeps at least min_total_matches inliers; otherwise the first refinement
+// stands.
+Eigen::Isometry3d refine_on_group(const KeyFrame& kf, const KeyFrame& cand, const Map& map,
+                                  const std::vector<std::shared_ptr<MapPoint>>& kept, const Eigen::Isometry3d& T_12,
+                                  const LoopVerifierParams& params) {
+  const Eigen::Isometry3d T_1w = kf.T_cw(), T_2w = cand.T_cw();
+  const FrameFeatures& f1 = kf.features();
+  const FrameFeatures& f2 = cand.features();
+  const auto points1 = kf.map_points(map);
+  std::vector<RelativePoseMatch> rel;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if (!kept[i] || kept[i]->is_bad()) continue;
+    RelativePoseMatch m;
+    m.point_in_2 = T_2w * kept[i]->position();
+    m.pixel_in_1 = {f1.keys_un[i].pt.x, f1.keys_un[i].pt.y};
+    if (params.refine_with_depth && f1.right_x[i] >= 0) m.right_x_1 = f1.right_x[i];
+    m.inv_sigma2_1 = f1.pyramid->inv_level_sigma2[f1.keys_un[i].octave];
+    const int i2 = kept[i]->index_in(cand.id());
+    m.two_sided = i2 >= 0 && i < points1.size() && points1[i] && !points1[i]->is_bad();
+    if (m.two_sided) {
+      m.point_in_1 = T_1w * points1[i]->position();
+      m.pixel_in_2 = {f2.keys_un[i2].pt.x, f2.keys_un[i2].pt.y};
+      if (params.refine_with_depth && f2.right_x[i2] >= 0) m.right_x_2 = f2.right_x[i2];
+      m.inv_sigma2_2 = f2.pyramid->inv_level_sigma2[f2.keys_un[i2].octave];
+    }
+    rel.push_back(m);
+  }
+  const RelativePoseResult r = optimize_relative_pose(f1.camera, rel, T_12);
+  return r.ok && r.num_inliers >= params.min_total_matches ? r.T_12 : T_12;
 }
 
 bool try_candidate(const Map& map, const std::shared_ptr<KeyFrame>& kf, const std::shared_ptr<KeyFrame>& cand,
@@ -87,9 +124,11 @@ bool try_candidate(const Map& map, const std::shared_ptr<KeyFrame>& kf, const st
     RelativePoseMatch m;
     m.point_in_1 = T_1w * points1[i]->position();
     m.pixel_in_1 = {f1.keys_un[i].pt.x, f1.keys_un[i].pt.y};
+    if (params.refine_with_depth && f1.right_x[i] >= 0) m.right_x_1 = f1.right_x[i];
     m.inv_sigma2_1 = f1.pyramid->inv_level_sigma2[f1.keys_un[i].octave];
     m.point_in_2 = T_2w * mp2->position();
     m.pixel_in_2 = {f2.keys_un[i2].pt.x, f2.keys_un[i2].pt.y};
+    if (params.refine_with_depth && f2.right_x[i2] >= 0) m.right_x_2 = f2.right_x[i2];
     m.inv_sigma2_2 = f2.pyramid->inv_level_sigma2[f2.keys_un[i2].octave];
     rel.push_back(m);
     rel_index.push_back(i);
@@ -124,7 +163,9 @@ bool try_candidate(const Map& map, const std::shared_ptr<KeyFrame>& kf, const st
     return false;
   }
   out.loop_kf = cand;
-  out.T_cw_corrected = T_cw_corrected;
+  out.T_cw_corrected =
+      params.refine_on_loop_group ? refine_on_group(*kf, *cand, map, kept, refined.T_12, params) * T_2w : T_cw_corrected;
+  out.T_cw_aligned = align.T_ab * T_2w;
   out.matched = std::move(kept);
   out.loop_points = std::move(group_points);
   out.num_matches = total;
@@ -132,6 +173,13 @@ bool try_candidate(const Map& map, const std::shared_ptr<KeyFrame>& kf, const st
 }
 
 }  // namespace
+
+LoopVerifierParams load_loop_verifier_params(const ConfigMap& cfg) {
+  LoopVerifierParams p;
+  p.refine_with_depth = cfg.get_bool_or("loop_closing/verify_with_depth", true);
+  p.refine_on_loop_group = cfg.get_bool_or("loop_closing/refine_on_loop_group", true);
+  return p;
+}
 
 bool verify_loop(const Map& map, const std::shared_ptr<KeyFrame>& kf,
                  const std::vector<std::shared_ptr<KeyFrame>>& candidates, LoopMatch& out, std::string* log,

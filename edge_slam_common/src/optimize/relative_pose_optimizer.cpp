@@ -16,24 +16,37 @@ using optimize_detail::PoseParameters;
 namespace {
 
 bool is_usable(const RelativePoseMatch& m) {
-  return m.point_in_1.allFinite() && m.pixel_in_1.allFinite() && m.point_in_2.allFinite() &&
-         m.pixel_in_2.allFinite() && std::isfinite(m.inv_sigma2_1) && m.inv_sigma2_1 > 0.0 &&
-         std::isfinite(m.inv_sigma2_2) && m.inv_sigma2_2 > 0.0;
+  const bool first = m.pixel_in_1.allFinite() && m.point_in_2.allFinite() && std::isfinite(m.inv_sigma2_1) &&
+                     m.inv_sigma2_1 > 0.0 && std::isfinite(m.right_x_1);
+  return first && (!m.two_sided || (m.point_in_1.allFinite() && m.pixel_in_2.allFinite() &&
+                                    std::isfinite(m.inv_sigma2_2) && m.inv_sigma2_2 > 0.0 &&
+                                    std::isfinite(m.right_x_2)));
 }
 
-// Chi2 of a monocular term; infinite when the point is not in front of the observing camera.
-double mono_chi2(const PinholeCamera& cam, const Eigen::Vector3d& p_cam, const Eigen::Vector2d& pixel,
-                 double inv_sigma2) {
-  if (!(p_cam.z() > optimize_detail::kMinDepth)) return std::numeric_limits<double>::infinity();
-  const double chi2 = inv_sigma2 * (pixel - cam.project(p_cam)).squaredNorm();
-  return std::isfinite(chi2) ? chi2 : std::numeric_limits<double>::infinity();
+optimize_detail::PixelMeasurement measurement_in_1(const RelativePoseMatch& m) {
+  return {m.pixel_in_1, m.right_x_1, m.inv_sigma2_1};
+}
+optimize_detail::PixelMeasurement measurement_in_2(const RelativePoseMatch& m) {
+  return {m.pixel_in_2, m.right_x_2, m.inv_sigma2_2};
+}
+
+// Chi2 of a term; infinite when the point is not in front of the observing camera.
+double term_chi2(const PinholeCamera& cam, const Eigen::Vector3d& p_cam, const optimize_detail::PixelMeasurement& m) {
+  const auto check = optimize_detail::evaluate_reprojection(cam, m, Eigen::Quaterniond::Identity(),
+                                                            Eigen::Vector3d::Zero(), p_cam);
+  return check.depth > optimize_detail::kMinDepth ? check.chi2 : std::numeric_limits<double>::infinity();
+}
+
+// The threshold given for a monocular term, scaled to the term's degrees of freedom.
+double term_threshold(const optimize_detail::PixelMeasurement& m, double mono_threshold) {
+  return m.is_stereo() ? mono_threshold * optimize_detail::kChi2Stereo / optimize_detail::kChi2Mono : mono_threshold;
 }
 
 bool match_is_inlier(const PinholeCamera& cam, const RelativePoseMatch& m, const Eigen::Isometry3d& T_12,
                      double threshold) {
-  const Eigen::Isometry3d T_21 = T_12.inverse();
-  return mono_chi2(cam, T_12 * m.point_in_2, m.pixel_in_1, m.inv_sigma2_1) <= threshold &&
-         mono_chi2(cam, T_21 * m.point_in_1, m.pixel_in_2, m.inv_sigma2_2) <= threshold;
+  const auto m1 = measurement_in_1(m), m2 = measurement_in_2(m);
+  return term_chi2(cam, T_12 * m.point_in_2, m1) <= term_threshold(m1, threshold) &&
+         (!m.two_sided || term_chi2(cam, T_12.inverse() * m.point_in_1, m2) <= term_threshold(m2, threshold));
 }
 
 RelativePoseResult failure(const Eigen::Isometry3d& T_12, size_t n, const std::string& why) {
@@ -67,12 +80,15 @@ RelativePoseResult optimize_relative_pose(const PinholeCamera& cam,
   for (size_t i = 0; i < n; ++i) {
     if (!active[i]) continue;
     const RelativePoseMatch& m = matches[i];
-    costs[2 * i].reset(optimize_detail::make_pose_only_reprojection_cost(
-        cam, optimize_detail::PixelMeasurement{m.pixel_in_1, -1.0, m.inv_sigma2_1}, m.point_in_2));
-    costs[2 * i + 1].reset(
-        optimize_detail::make_inverse_pose_reprojection_cost(cam, m.pixel_in_2, m.inv_sigma2_2, m.point_in_1));
+    costs[2 * i].reset(optimize_detail::make_pose_only_reprojection_cost(cam, measurement_in_1(m), m.point_in_2));
+    if (m.two_sided)
+      costs[2 * i + 1].reset(optimize_detail::make_inverse_pose_reprojection_cost(cam, measurement_in_2(m), m.point_in_1));
   }
-  ceres::HuberLoss huber(std::sqrt(options.chi2_threshold));
+  ceres::HuberLoss huber_mono(std::sqrt(options.chi2_threshold));
+  ceres::HuberLoss huber_stereo(std::sqrt(options.chi2_threshold * optimize_detail::kChi2Stereo / optimize_detail::kChi2Mono));
+  auto huber = [&](const optimize_detail::PixelMeasurement& m) -> ceres::LossFunction* {
+    return m.is_stereo() ? &huber_stereo : &huber_mono;
+  };
   ceres::EigenQuaternionManifold quaternion_manifold;
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -104,8 +120,10 @@ RelativePoseResult optimize_relative_pose(const PinholeCamera& cam,
         active[i] = false;
         continue;
       }
-      problem.AddResidualBlock(costs[2 * i].get(), robust ? &huber : nullptr, pose.q, pose.t);
-      problem.AddResidualBlock(costs[2 * i + 1].get(), robust ? &huber : nullptr, pose.q, pose.t);
+      problem.AddResidualBlock(costs[2 * i].get(), robust ? huber(measurement_in_1(matches[i])) : nullptr, pose.q, pose.t);
+      if (matches[i].two_sided)
+        problem.AddResidualBlock(costs[2 * i + 1].get(), robust ? huber(measurement_in_2(matches[i])) : nullptr, pose.q,
+                                 pose.t);
       ++num_active;
     }
     if (num_active < options.min_matches) {

@@ -71,10 +71,11 @@ struct FixedPointResidual {
   }
 };
 
-// Monocular residual of a point known in frame 1 observed in frame 2, for the pose T_12:
-// the point is mapped by T_21 = T_12^-1 (quaternion conjugate, t_21 = -(q_21 * t_12)).
+// Residual of a point known in frame 1 observed in frame 2, for the pose T_12: the point is
+// mapped by T_21 = T_12^-1 (quaternion conjugate, t_21 = -(q_21 * t_12)).
+template <typename Residual>
 struct InversePoseResidual {
-  MonoResidual residual;
+  Residual residual;
   Eigen::Vector3d point_in_1;
 
   template <typename T>
@@ -177,10 +178,16 @@ class AnalyticReprojectionCost : public ceres::SizedCostFunction<3, 4, 3, 3> {
 
 }  // namespace
 
-ceres::CostFunction* make_inverse_pose_reprojection_cost(const PinholeCamera& cam, const Eigen::Vector2d& pixel,
-                                                         double inv_sigma2, const Eigen::Vector3d& point_in_1) {
-  return new ceres::AutoDiffCostFunction<InversePoseResidual, 2, 4, 3>(
-      new InversePoseResidual{MonoResidual{cam, pixel, std::sqrt(inv_sigma2)}, point_in_1});
+ceres::CostFunction* make_inverse_pose_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
+                                                         const Eigen::Vector3d& point_in_1) {
+  const double sqrt_info = std::sqrt(m.inv_sigma2);
+  if (m.is_stereo()) {
+    using F = InversePoseResidual<StereoResidual>;
+    return new ceres::AutoDiffCostFunction<F, 3, 4, 3>(new F{
+        StereoResidual{cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info}, point_in_1});
+  }
+  using F = InversePoseResidual<MonoResidual>;
+  return new ceres::AutoDiffCostFunction<F, 2, 4, 3>(new F{MonoResidual{cam, m.pixel, sqrt_info}, point_in_1});
 }
 
 ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,

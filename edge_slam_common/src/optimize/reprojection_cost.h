@@ -36,10 +36,11 @@ ceres::CostFunction* make_reprojection_cost_autodiff(const PinholeCamera& cam, c
 ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
                                                       const Eigen::Vector3d& point_world);
 
-// Monocular residual over the parameters (q_12 [4], t_12 [3]) of T_12, for a point known in
-// frame 1 and observed at pixel in frame 2 (through T_12^-1). Used by the relative-pose refinement.
-ceres::CostFunction* make_inverse_pose_reprojection_cost(const PinholeCamera& cam, const Eigen::Vector2d& pixel,
-                                                         double inv_sigma2, const Eigen::Vector3d& point_in_1);
+// Residual over the parameters (q_12 [4], t_12 [3]) of T_12, for a point known in frame 1 and
+// observed in frame 2 (through T_12^-1): monocular, or stereo-projected when m.right_x >= 0.
+// Used by the relative-pose refinement.
+ceres::CostFunction* make_inverse_pose_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
+                                                         const Eigen::Vector3d& point_in_1);
 
 struct ReprojectionCheck {
   double chi2 = 0.0;
