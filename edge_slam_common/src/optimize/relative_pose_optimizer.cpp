@@ -16,11 +16,10 @@ using optimize_detail::PoseParameters;
 namespace {
 
 bool is_usable(const RelativePoseMatch& m) {
-  const bool first = m.pixel_in_1.allFinite() && m.point_in_2.allFinite() && std::isfinite(m.inv_sigma2_1) &&
-                     m.inv_sigma2_1 > 0.0 && std::isfinite(m.right_x_1);
-  return first && (!m.two_sided || (m.point_in_1.allFinite() && m.pixel_in_2.allFinite() &&
-                                    std::isfinite(m.inv_sigma2_2) && m.inv_sigma2_2 > 0.0 &&
-                                    std::isfinite(m.right_x_2)));
+  return m.point_in_1.allFinite() && m.pixel_in_1.allFinite() && m.point_in_2.allFinite() &&
+         m.pixel_in_2.allFinite() && std::isfinite(m.inv_sigma2_1) && m.inv_sigma2_1 > 0.0 &&
+         std::isfinite(m.inv_sigma2_2) && m.inv_sigma2_2 > 0.0 && std::isfinite(m.right_x_1) &&
+         std::isfinite(m.right_x_2);
 }
 
 optimize_detail::PixelMeasurement measurement_in_1(const RelativePoseMatch& m) {
@@ -46,7 +45,7 @@ bool match_is_inlier(const PinholeCamera& cam, const RelativePoseMatch& m, const
                      double threshold) {
   const auto m1 = measurement_in_1(m), m2 = measurement_in_2(m);
   return term_chi2(cam, T_12 * m.point_in_2, m1) <= term_threshold(m1, threshold) &&
-         (!m.two_sided || term_chi2(cam, T_12.inverse() * m.point_in_1, m2) <= term_threshold(m2, threshold));
+         term_chi2(cam, T_12.inverse() * m.point_in_1, m2) <= term_threshold(m2, threshold);
 }
 
 RelativePoseResult failure(const Eigen::Isometry3d& T_12, size_t n, const std::string& why) {
@@ -81,8 +80,7 @@ RelativePoseResult optimize_relative_pose(const PinholeCamera& cam,
     if (!active[i]) continue;
     const RelativePoseMatch& m = matches[i];
     costs[2 * i].reset(optimize_detail::make_pose_only_reprojection_cost(cam, measurement_in_1(m), m.point_in_2));
-    if (m.two_sided)
-      costs[2 * i + 1].reset(optimize_detail::make_inverse_pose_reprojection_cost(cam, measurement_in_2(m), m.point_in_1));
+    costs[2 * i + 1].reset(optimize_detail::make_inverse_pose_reprojection_cost(cam, measurement_in_2(m), m.point_in_1));
   }
   ceres::HuberLoss huber_mono(std::sqrt(options.chi2_threshold));
   ceres::HuberLoss huber_stereo(std::sqrt(options.chi2_threshold * optimize_detail::kChi2Stereo / optimize_detail::kChi2Mono));
@@ -121,9 +119,8 @@ RelativePoseResult optimize_relative_pose(const PinholeCamera& cam,
         continue;
       }
       problem.AddResidualBlock(costs[2 * i].get(), robust ? huber(measurement_in_1(matches[i])) : nullptr, pose.q, pose.t);
-      if (matches[i].two_sided)
-        problem.AddResidualBlock(costs[2 * i + 1].get(), robust ? huber(measurement_in_2(matches[i])) : nullptr, pose.q,
-                                 pose.t);
+      problem.AddResidualBlock(costs[2 * i + 1].get(), robust ? huber(measurement_in_2(matches[i])) : nullptr, pose.q,
+                               pose.t);
       ++num_active;
     }
     if (num_active < options.min_matches) {

@@ -28,10 +28,6 @@ struct RelativePoseMatch {
   Eigen::Vector2d pixel_in_2;   // the keypoint of that match in keyframe 2 (undistorted)
   double right_x_2 = -1.0;      // as right_x_1, in keyframe 2
   double inv_sigma2_2 = 1.0;
-  // false: keyframe 2 does not observe the point (a point of its covisible group matched in
-  // keyframe 1): only the first term, point_in_2 seen in keyframe 1; point_in_1 / pixel_in_2
-  // unused.
-  bool two_sided = true;
 };
 
 struct RelativePoseOptions {
