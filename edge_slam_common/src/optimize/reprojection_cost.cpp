@@ -176,33 +176,32 @@ class AnalyticReprojectionCost : public ceres::SizedCostFunction<3, 4, 3, 3> {
   double sqrt_info_;
 };
 
+// A (quaternion [4], translation [3]) cost of one measurement of a known point, the residual
+// wrapped by `Wrapper` (FixedPointResidual: T_cw; InversePoseResidual: T_12 of a point of frame 1).
+template <template <typename> class Wrapper>
+ceres::CostFunction* make_pose_parameter_cost(const PinholeCamera& cam, const PixelMeasurement& m,
+                                              const Eigen::Vector3d& point) {
+  const double sqrt_info = std::sqrt(m.inv_sigma2);
+  if (m.is_stereo()) {
+    using F = Wrapper<StereoResidual>;
+    return new ceres::AutoDiffCostFunction<F, 3, 4, 3>(
+        new F{StereoResidual{cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info}, point});
+  }
+  using F = Wrapper<MonoResidual>;
+  return new ceres::AutoDiffCostFunction<F, 2, 4, 3>(new F{MonoResidual{cam, m.pixel, sqrt_info}, point});
+}
+
 }  // namespace
 
 ceres::CostFunction* make_inverse_pose_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
                                                          const Eigen::Vector3d& point_in_1) {
-  const double sqrt_info = std::sqrt(m.inv_sigma2);
-  if (m.is_stereo()) {
-    using F = InversePoseResidual<StereoResidual>;
-    return new ceres::AutoDiffCostFunction<F, 3, 4, 3>(new F{
-        StereoResidual{cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info}, point_in_1});
-  }
-  using F = InversePoseResidual<MonoResidual>;
-  return new ceres::AutoDiffCostFunction<F, 2, 4, 3>(new F{MonoResidual{cam, m.pixel, sqrt_info}, point_in_1});
+  return make_pose_parameter_cost<InversePoseResidual>(cam, m, point_in_1);
 }
 
 ceres::CostFunction* make_pose_only_reprojection_cost(const PinholeCamera& cam, const PixelMeasurement& m,
                                                       const Eigen::Vector3d& point_world) {
-  const double sqrt_info = std::sqrt(m.inv_sigma2);
-  if (m.is_stereo()) {
-    using F = FixedPointResidual<StereoResidual>;
-    return new ceres::AutoDiffCostFunction<F, 3, 4, 3>(new F{
-        StereoResidual{cam, Eigen::Vector3d(m.pixel.x(), m.pixel.y(), m.right_x), sqrt_info}, point_world});
-  }
-  using F = FixedPointResidual<MonoResidual>;
-  return new ceres::AutoDiffCostFunction<F, 2, 4, 3>(new F{MonoResidual{cam, m.pixel, sqrt_info}, point_world});
+  return make_pose_parameter_cost<FixedPointResidual>(cam, m, point_world);
 }
-
-
 
 ceres::CostFunction* make_reprojection_cost_autodiff(const PinholeCamera& cam, const PixelMeasurement& m) {
   const double sqrt_info = std::sqrt(m.inv_sigma2);
