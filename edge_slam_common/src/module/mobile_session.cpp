@@ -1,6 +1,7 @@
 #include "edge_slam/module/mobile_session.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <chrono>
 #include <unordered_set>
@@ -8,6 +9,7 @@
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/util/heap_release.h"
+#include "edge_slam/util/log.h"
 #include "edge_slam/util/robot_ids.h"
 #include "edge_slam/io/map_records.h"
 #include "edge_slam/module/local_map_cap.h"
@@ -130,6 +132,14 @@ TrackingResult MobileSession::track(const cv::Mat& color, const cv::Mat& depth, 
   // Condition 2: the edge's Local-Mapping is idle once it is done with every KeyFrame sent.
   tracking_.set_mapper_idle(edge_mapped_seq_.load() + 1 >= next_keyframe_seq_ && !edge_busy_elsewhere_.load());
   TrackingResult r = tracking_.track_rgbd(color, depth, stamp);
+  if (frames_since_update_ < 2) {
+    // Instrumentation: the frames right after an update against the one before it.
+    log_info(log_text(frames_since_update_ == 0 ? "first" : "second", " frame after update: ", r.diag.path, ", ",
+        r.diag.initial_matches, " matches, ", r.inliers, " inliers (the frame before: ", inliers_before_update_,
+        "), prediction off ", r.diag.prediction_error_m * 100, " cm ", r.diag.prediction_error_deg, " deg"));
+  }
+  if (frames_since_update_ < 1000) ++frames_since_update_;
+  last_inliers_ = r.inliers;
   if (r.new_keyframe && r.diag.reference_kf_id != kNoId) {
     MobileKeyFrameStats& k = keyframe_stats_;
     const uint32_t bits = r.diag.keyframe_conditions;
@@ -231,8 +241,14 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   const uint32_t reference_id = tracking_.reference_keyframe_id();
   const auto reference_before = map_->keyframe(reference_id);
   const Eigen::Vector3d centre_before = reference_before ? reference_before->camera_center() : Eigen::Vector3d::Zero();
+  const Eigen::Quaterniond rotation_before(reference_before ? Eigen::Matrix3d(reference_before->T_wc().rotation())
+                                                             : Eigen::Matrix3d::Identity());
+  std::vector<Eigen::Vector3d> tracked_before;
   for (const auto& mp : tracking_.last_frame().map_points)
-    if (mp) tracked_ids.push_back(mp->id());
+    if (mp) {
+      tracked_ids.push_back(mp->id());
+      tracked_before.push_back(mp->position());
+    }
   for (const auto& kf : map_->keyframes())
     if (created_set_.count(kf->id())) mobile_kfs_before.push_back(kf->id());
   if (params_.update_install == MobileSessionParams::UpdateInstall::kMerge) {
@@ -265,14 +281,36 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
     tracking_.relink_after_map_update(&old_map);
   }
   keyframe_since_update_ = false;
+  frames_since_update_ = 0;
+  inliers_before_update_ = last_inliers_;
   note_local_map_size();
   if (const auto reference_after = map_->keyframe(reference_id); reference_after && reference_before) {
     const double moved = (reference_after->camera_center() - centre_before).norm();
     update_stats_.max_correction_m = std::max(update_stats_.max_correction_m, moved);
     update_stats_.sum_correction_m += moved;
   }
+  double rotation_deg = 0;
+  if (const auto reference_after = map_->keyframe(reference_id); reference_after && reference_before) {
+    rotation_deg = Eigen::AngleAxisd(Eigen::Quaterniond(reference_after->T_wc().rotation()) * rotation_before.inverse())
+                       .angle() * 180.0 / M_PI;
+    update_stats_.max_reference_rotation_deg = std::max(update_stats_.max_reference_rotation_deg, rotation_deg);
+  }
   size_t kept = 0;
-  for (uint32_t id : tracked_ids) kept += map_->map_point(id) ? 1 : 0;
+  std::vector<double> shifts;
+  for (size_t i = 0; i < tracked_ids.size(); ++i)
+    if (const auto mp = map_->map_point(tracked_ids[i])) {
+      ++kept;
+      shifts.push_back((mp->position() - tracked_before[i]).norm());
+    }
+  double median_shift = 0;
+  if (!shifts.empty()) {
+    std::nth_element(shifts.begin(), shifts.begin() + shifts.size() / 2, shifts.end());
+    median_shift = shifts[shifts.size() / 2];
+    update_stats_.max_tracked_point_shift_m = std::max(update_stats_.max_tracked_point_shift_m, median_shift);
+  }
+  log_info(log_text("update ", pending.seq, " installed: reference KeyFrame ", reference_id, " turned ", rotation_deg,
+      " deg; the last frame's points: ", kept, " of ", tracked_ids.size(), " kept, moved ", median_shift * 100,
+      " cm (median)"));
   ++update_stats_.installed;
   update_stats_.tracked_points_before += tracked_ids.size();
   update_stats_.tracked_points_kept += kept;

@@ -111,6 +111,8 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .integer("keyframes_carried", static_cast<long long>(us.keyframes_carried))
       .number("max_correction_m", us.max_correction_m)
       .number("mean_correction_m", us.installed ? us.sum_correction_m / us.installed : 0.0)
+      .number("max_reference_rotation_deg", us.max_reference_rotation_deg)
+      .number("max_tracked_point_shift_m", us.max_tracked_point_shift_m)
       .integer("heap_releases", static_cast<long long>(us.heap_releases))
       .integer("heap_releases_freeing", static_cast<long long>(us.heap_releases_freeing))
       .number("heap_release_ms", us.heap_release_ms)

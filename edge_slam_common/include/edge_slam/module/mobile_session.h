@@ -93,6 +93,11 @@ struct MobileUpdateStats {
   // How far each update moved the map under the camera: the correction at the last frame's
   // reference KeyFrame (camera centre displacement), the largest and the sum over the updates.
   double max_correction_m = 0, sum_correction_m = 0;
+  // ... the same reference KeyFrame's rotation (deg), and the median displacement of the points
+  // the last frame tracked that the new Local-Map still holds (what tracking is aligned to: when
+  // it exceeds the reference's, the update moved the map under the camera non-rigidly), largest
+  // over the updates.
+  double max_reference_rotation_deg = 0, max_tracked_point_shift_m = 0;
   // release_heap_after_update: calls made, how many gave memory back, their total wall time.
   uint64_t heap_releases = 0, heap_releases_freeing = 0;
   double heap_release_ms = 0, max_heap_release_ms = 0;
@@ -161,6 +166,9 @@ class MobileSession {
   };
   TrackingSnapshot snapshot(double now) const;                 // mutex_ held
   void install(PendingUpdate& pending, UpdateOutcome& out);    // mutex_ held, update accepted
+  // Instrumentation of the frames after an install (mutex_ held): frames tracked since the last
+  // install (1000 before any), the latest frame's inliers, those of the frame before the install.
+  int frames_since_update_ = 1000, last_inliers_ = 0, inliers_before_update_ = 0;
   // mutex_ held; returns the update it decided on (to be freed outside the lock), if any
   std::shared_ptr<PendingUpdate> recheck_deferred_update(double now);
 
