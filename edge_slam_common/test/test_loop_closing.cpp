@@ -147,9 +147,9 @@ TEST(LoopClosing, DetectsAndCorrectsInjectedDriftOnARing) {
 // median 0.47 cm against 2.0 cm (map drift there 1.2-2.5 cm).
 TEST(LoopClosing, LoopGroupRefinementSharpensTheLoopTransform) {
   const World w = cylinder();
+  constexpr unsigned kSeeds = 8;
   double sum_group = 0, sum_pair = 0;
-  int verified = 0;
-  for (unsigned seed = 1; seed <= 8; ++seed) {
+  for (unsigned seed = 1; seed <= kSeeds; ++seed) {
     Ring ring = build_ring(w, 12, 20);
     std::mt19937 rng(seed);
     std::normal_distribution<double> noise(0.0, 0.015);
@@ -178,10 +178,9 @@ TEST(LoopClosing, LoopGroupRefinementSharpensTheLoopTransform) {
     ASSERT_GE(pair_only, 0.0);
     sum_group += with_group;
     sum_pair += pair_only;
-    ++verified;
   }
   std::printf("loop transform error, 8 noisy rings: refined on the group %.2f cm, the pair alone %.2f cm (mean)\n",
-              100 * sum_group / verified, 100 * sum_pair / verified);
+              100 * sum_group / kSeeds, 100 * sum_pair / kSeeds);
   EXPECT_LT(sum_group, 0.7 * sum_pair);
 }
 

@@ -1,10 +1,18 @@
 #include "edge_slam/module/frame_pose.h"
 
 #include "edge_slam/data/map_point.h"
-#include "edge_slam/optimize/pose_optimizer.h"
 #include "edge_slam/util/stage_clock.h"
 
 namespace edge_slam {
+
+PoseObservation pose_observation(const FrameFeatures& f, size_t i, const Eigen::Vector3d& point_world) {
+  PoseObservation o;
+  o.point_world = point_world;
+  o.pixel = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
+  o.right_x = f.right_x[i];
+  o.inv_sigma2 = f.pyramid->inv_level_sigma2[f.keys_un[i].octave];
+  return o;
+}
 
 int optimize_frame_pose(Frame& frame) {
   StageScope stage(TrackingStage::kPose);
@@ -15,12 +23,7 @@ int optimize_frame_pose(Frame& frame) {
   for (size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& mp = frame.map_points[i];
     if (!mp) continue;
-    PoseObservation o;
-    o.point_world = mp->position();
-    o.pixel = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
-    o.right_x = f.right_x[i];
-    o.inv_sigma2 = f.pyramid->inv_level_sigma2[f.keys_un[i].octave];
-    obs.push_back(o);
+    obs.push_back(pose_observation(f, i, mp->position()));
     keypoint_of.push_back(i);
     outlier.push_back(false);
   }

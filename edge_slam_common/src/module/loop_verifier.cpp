@@ -5,7 +5,7 @@
 
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/match/keyframe_search.h"
-#include "edge_slam/optimize/pose_optimizer.h"
+#include "edge_slam/module/frame_pose.h"
 #include "edge_slam/optimize/relative_pose_optimizer.h"
 #include "edge_slam/solve/se3_alignment.h"
 
@@ -57,11 +57,8 @@ Eigen::Isometry3d refine_on_group(const KeyFrame& kf, const std::vector<std::sha
   std::vector<PoseObservation> obs;
   for (size_t i = 0; i < kept.size(); ++i) {
     if (!kept[i] || kept[i]->is_bad()) continue;
-    PoseObservation o;
-    o.point_world = kept[i]->position();
-    o.pixel = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
-    if (params.refine_with_depth && f.right_x[i] >= 0) o.right_x = f.right_x[i];
-    o.inv_sigma2 = f.pyramid->inv_level_sigma2[f.keys_un[i].octave];
+    PoseObservation o = pose_observation(f, i, kept[i]->position());
+    if (!params.refine_with_depth) o.right_x = -1.0;  // (u, v) only
     obs.push_back(o);
   }
   Eigen::Isometry3d T = T_cw;

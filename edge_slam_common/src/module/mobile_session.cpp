@@ -240,9 +240,8 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   std::vector<uint32_t> tracked_ids, mobile_kfs_before;
   const uint32_t reference_id = tracking_.reference_keyframe_id();
   const auto reference_before = map_->keyframe(reference_id);
-  const Eigen::Vector3d centre_before = reference_before ? reference_before->camera_center() : Eigen::Vector3d::Zero();
-  const Eigen::Quaterniond rotation_before(reference_before ? Eigen::Matrix3d(reference_before->T_wc().rotation())
-                                                             : Eigen::Matrix3d::Identity());
+  const Eigen::Isometry3d T_wc_reference_before =
+      reference_before ? reference_before->T_wc() : Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3d> tracked_before;
   for (const auto& mp : tracking_.last_frame().map_points)
     if (mp) {
@@ -284,15 +283,15 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   frames_since_update_ = 0;
   inliers_before_update_ = last_inliers_;
   note_local_map_size();
-  if (const auto reference_after = map_->keyframe(reference_id); reference_after && reference_before) {
-    const double moved = (reference_after->camera_center() - centre_before).norm();
-    update_stats_.max_correction_m = std::max(update_stats_.max_correction_m, moved);
-    update_stats_.sum_correction_m += moved;
-  }
   double rotation_deg = 0;
   if (const auto reference_after = map_->keyframe(reference_id); reference_after && reference_before) {
-    rotation_deg = Eigen::AngleAxisd(Eigen::Quaterniond(reference_after->T_wc().rotation()) * rotation_before.inverse())
-                       .angle() * 180.0 / M_PI;
+    // The reference's change, T_wc(after) * T_wc(before)^-1: its centre's displacement and its turn.
+    const Eigen::Isometry3d T_wc_after = reference_after->T_wc();
+    const double moved = (T_wc_after.translation() - T_wc_reference_before.translation()).norm();
+    update_stats_.max_correction_m = std::max(update_stats_.max_correction_m, moved);
+    update_stats_.sum_correction_m += moved;
+    rotation_deg = Eigen::AngleAxisd(T_wc_after.rotation() * T_wc_reference_before.rotation().transpose()).angle() *
+                   180.0 / M_PI;
     update_stats_.max_reference_rotation_deg = std::max(update_stats_.max_reference_rotation_deg, rotation_deg);
   }
   size_t kept = 0;

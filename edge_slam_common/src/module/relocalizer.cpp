@@ -60,12 +60,7 @@ bool BowPnpRelocalizer::try_candidate(Frame& frame, const std::shared_ptr<KeyFra
   std::vector<size_t> keypoint_of;
   for (size_t i = 0; i < frame.map_points.size(); ++i) {
     if (!frame.map_points[i]) continue;
-    PoseObservation o;
-    o.point_world = frame.map_points[i]->position();
-    o.pixel = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
-    o.right_x = f.right_x[i];
-    o.inv_sigma2 = f.pyramid->inv_level_sigma2[f.keys_un[i].octave];
-    obs.push_back(o);
+    obs.push_back(pose_observation(f, i, frame.map_points[i]->position()));
     keypoint_of.push_back(i);
   }
   PnpParams pnp_params;

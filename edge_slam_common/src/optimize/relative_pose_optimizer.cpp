@@ -36,9 +36,12 @@ double term_chi2(const PinholeCamera& cam, const Eigen::Vector3d& p_cam, const o
   return check.depth > optimize_detail::kMinDepth ? check.chi2 : std::numeric_limits<double>::infinity();
 }
 
-// The threshold given for a monocular term, scaled to the term's degrees of freedom.
+// The threshold given for a monocular term, scaled to a stereo-projected term's degrees of freedom.
+double stereo_threshold(double mono_threshold) {
+  return mono_threshold * optimize_detail::kChi2Stereo / optimize_detail::kChi2Mono;
+}
 double term_threshold(const optimize_detail::PixelMeasurement& m, double mono_threshold) {
-  return m.is_stereo() ? mono_threshold * optimize_detail::kChi2Stereo / optimize_detail::kChi2Mono : mono_threshold;
+  return m.is_stereo() ? stereo_threshold(mono_threshold) : mono_threshold;
 }
 
 bool match_is_inlier(const PinholeCamera& cam, const RelativePoseMatch& m, const Eigen::Isometry3d& T_12,
@@ -83,7 +86,7 @@ RelativePoseResult optimize_relative_pose(const PinholeCamera& cam,
     costs[2 * i + 1].reset(optimize_detail::make_inverse_pose_reprojection_cost(cam, measurement_in_2(m), m.point_in_1));
   }
   ceres::HuberLoss huber_mono(std::sqrt(options.chi2_threshold));
-  ceres::HuberLoss huber_stereo(std::sqrt(options.chi2_threshold * optimize_detail::kChi2Stereo / optimize_detail::kChi2Mono));
+  ceres::HuberLoss huber_stereo(std::sqrt(stereo_threshold(options.chi2_threshold)));
   auto huber = [&](const optimize_detail::PixelMeasurement& m) -> ceres::LossFunction* {
     return m.is_stereo() ? &huber_stereo : &huber_mono;
   };
