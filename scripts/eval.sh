@@ -158,7 +158,8 @@ u = m.get("updates", {})
 jump = ate["update_jump_max_m"]
 print(f"split: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; largest jump at an update "
       f"{'n/a' if jump is None else '%.2f cm' % (jump * 100)} over {len(ate['update_jumps'])} updates installed; "
-      f"updates accepted {u.get('accepted')}/{u.get('received')}; Local-Map peak {m.get('local_map_peak')} KeyFrames")
+      f"updates accepted {u.get('accepted')}/{u.get('received')} (sent early on divergence "
+      f"{m.get('edge', {}).get('updates_on_divergence', 0)}); Local-Map peak {m.get('local_map_peak')} KeyFrames")
 print(f"split: KeyFrames made {m['keyframes_made']}, inserted on the edge {m['keyframes_inserted']}, refused by "
       f"condition 1 {m['keyframes_refused_condition1']} / condition 2 {m['keyframes_refused_condition2']}; "
       f"edge loops closed {m.get('loops_closed')}; lost {m.get('times_lost')} times")

@@ -4,16 +4,19 @@
 //   - the points of a refused KeyFrame, kept until a later KeyFrame observes them;
 //   - the edge's mapped seq (what the acknowledgement carries);
 //   - a covisible update holding the newest KeyFrame and what it sees;
+//   - an update sent before the timer when the edge's local BA moved a KeyFrame the mobile made;
 //   - an installed update keeping the mobile's newer KeyFrames, moved by the update's
 //     correction, and the last frame moving with it (the next prediction stays right).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "edge_slam/module/edge_keyframe_decision.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/module/mobile_session.h"
+#include "edge_slam/module/update_trigger.h"
 #include "edge_slam/util/wall_clock.h"
 #include "support/split_fixture.h"
 
@@ -194,6 +197,68 @@ TEST(EdgeSessionUpdates, ACovisibleUpdateHoldsTheNewestKeyFrameAndItsStrongestNe
   std::vector<uint32_t> got;
   for (const KeyFrameRecord& k : u->keyframes) got.push_back(k.id);
   EXPECT_EQ(got, expected);
+}
+
+TEST(UpdateTrigger, DueWhenAMobileKeyFrameIsFarAndTheLastUpdateIsNotTooRecent) {
+  UpdateTriggerParams p;
+  p.divergence_m = 0.02;
+  p.min_gap_s = 1.0;
+  EXPECT_TRUE(divergence_update_due(p, 0.03, 10.0, std::nullopt)) << "no update yet";
+  EXPECT_TRUE(divergence_update_due(p, 0.03, 10.0, 9.0));
+  EXPECT_FALSE(divergence_update_due(p, 0.03, 10.0, 9.5)) << "too soon after the last update";
+  EXPECT_FALSE(divergence_update_due(p, 0.015, 10.0, 2.0)) << "within what local BA moves a good KeyFrame";
+  EXPECT_FALSE(divergence_update_due(p, std::nan(""), 10.0, 2.0));
+  p.divergence_m = 0.0;
+  EXPECT_FALSE(divergence_update_due(p, 1.0, 10.0, std::nullopt)) << "the paper's prototype: the timer only";
+}
+
+// The mechanism end to end: the mobile's last KeyFrame (and the points it made) 5 cm off, as a
+// weak frame in a fast turn gives; the edge's local BA pulls it onto the map the earlier
+// KeyFrames' points hold, and that difference makes an update due at once.
+TEST(EdgeSessionUpdates, AnUpdateGoesOutEarlyWhenLocalBAMovesAKeyFrameTheMobileMade) {
+  const RenderedSequence& seq = sequence();
+  const std::vector<KeyFrameRecord> sent = recorded_keyframes(kFrames);
+  ASSERT_GE(sent.size(), 4u);
+  EdgeSessionParams params;
+  params.loop_closing = false;
+  params.late_keyframe_age = 0;
+  params.update_trigger.divergence_m = 0.02;
+  params.update_trigger.min_gap_s = 1.0;
+  EdgeSession edge(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  for (size_t i = 0; i + 1 < sent.size(); ++i) {
+    ASSERT_EQ(edge.receive_keyframe(sent[i], wall_clock_seconds()), KeyFrameVerdict::kInserted);
+    ASSERT_TRUE(edge.wait_until_idle(30.0));
+  }
+  EXPECT_LT(edge.mobile_divergence_m(), 0.02) << "good KeyFrames stay close to where the mobile has them";
+  EXPECT_FALSE(edge.build_update_on_divergence(100.0));
+  KeyFrameRecord weak = sent.back();
+  const Eigen::Vector3d shift(0.05, 0.0, 0.0);
+  weak.T_wc.translation() += shift;
+  for (NewPointRecord& p : weak.new_points) p.position += shift.cast<float>();
+  ASSERT_EQ(edge.receive_keyframe(weak, wall_clock_seconds()), KeyFrameVerdict::kInserted);
+  ASSERT_TRUE(edge.wait_until_idle(30.0));
+  double divergence = 0.0;
+  const std::optional<MapUpdateRecord> u = edge.build_update_on_divergence(100.0, 0, &divergence);
+  EXPECT_GT(divergence, 0.03) << "local BA moved the weak KeyFrame back most of the 5 cm";
+  ASSERT_TRUE(u);
+  EXPECT_EQ(u->kind, MapUpdateKind::kPeriodic);
+  bool holds_it = false;
+  for (const KeyFrameRecord& k : u->keyframes) holds_it |= k.id == weak.id;
+  EXPECT_TRUE(holds_it) << "the update carries the corrected KeyFrame";
+  EXPECT_EQ(edge.counters().updates_on_divergence, 1u);
+  EXPECT_EQ(edge.mobile_divergence_m(), 0.0) << "after an update the edge no longer knows the mobile's poses";
+
+  // The paper's prototype (divergence_m = 0): the same KeyFrames, no update before the timer.
+  params.update_trigger.divergence_m = 0.0;
+  EdgeSession paper(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  for (size_t i = 0; i + 1 < sent.size(); ++i) {
+    paper.receive_keyframe(sent[i], wall_clock_seconds());
+    ASSERT_TRUE(paper.wait_until_idle(30.0));
+  }
+  paper.receive_keyframe(weak, wall_clock_seconds());
+  ASSERT_TRUE(paper.wait_until_idle(30.0));
+  EXPECT_GT(paper.mobile_divergence_m(), 0.03);
+  EXPECT_FALSE(paper.build_update_on_divergence(100.0));
 }
 
 // An update shifted by `shift` (the edge moved the whole map), built from all but the newest

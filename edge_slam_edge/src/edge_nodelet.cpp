@@ -125,7 +125,11 @@ class EdgeNodelet : public nodelet::Nodelet {
     // waits for that (edge_slam/mobile_keyframe_pacing), like ORB-SLAM2's tracker reading its mapper.
     progress_timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) {
       for (int r = 0; r < system_->robots(); ++r)
-        if (system_->mapping_progressed(r)) publish_ack(r);
+        if (system_->mapping_progressed(r)) {
+          publish_ack(r);
+          // The paper's "difference deemed large": an update before the timer (module/update_trigger.h).
+          if (auto update = system_->divergence_update(r)) publish(*update, r);
+        }
     });
     if (!settings.durability.checkpoint_file.empty())
       checkpoint_timer_ = nh.createWallTimer(ros::WallDuration(settings.durability.checkpoint_period),

@@ -45,6 +45,8 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   p.reanchor_late_keyframes = cfg.get_bool_or("edge_slam/reanchor_late_keyframes", true);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
+  p.update_trigger.divergence_m = cfg.get_double_or("edge_slam/update_on_divergence", 0.0, 0.0, 10.0);
+  p.update_trigger.min_gap_s = cfg.get_double_or("edge_slam/update_min_gap", 1.0, 0.0, 3600.0);
   // The edge hosts Local-Mapping: the same "local_mapping:" section the monolithic runner reads.
   p.mapping = load_local_mapping_params(cfg);
   p.loop.verifier = load_loop_verifier_params(cfg);
@@ -327,7 +329,46 @@ MapUpdateRecord EdgeSession::pack_update(const std::vector<std::shared_ptr<KeyFr
 std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now, int robot) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (robot < 0 || robot >= static_cast<int>(robots_.size())) return std::nullopt;
+  return build_local_map_update_locked(robots_[robot], now, robot);
+}
+
+double EdgeSession::mobile_divergence_m(int robot) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (robot < 0 || robot >= static_cast<int>(robots_.size())) return 0.0;
+  return mobile_divergence_locked(robots_[robot], robot);
+}
+
+double EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot) const {
+  std::lock_guard<std::mutex> map_lock(map_->update_mutex());
+  const Eigen::Isometry3d T_group_robot = frames_.placement(robot).T_group_robot;
+  double largest = 0.0;
+  for (const auto& [id, view] : rs.mobile_views) {
+    const auto kf = map_->keyframe(id);
+    if (!kf || kf->is_bad()) continue;
+    if (const auto T_cw_mobile = mobile_pose_in_map(view, T_group_robot, rs.next_update_seq))
+      largest = std::max(largest, (kf->T_wc().translation() - T_cw_mobile->inverse().translation()).norm());
+  }
+  return largest;
+}
+
+std::optional<MapUpdateRecord> EdgeSession::build_update_on_divergence(double now, int robot, double* divergence) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (robot < 0 || robot >= static_cast<int>(robots_.size())) return std::nullopt;
   RobotState& rs = robots_[robot];
+  const double d = mobile_divergence_locked(rs, robot);
+  if (divergence) *divergence = d;
+  if (!divergence_update_due(params_.update_trigger, d, now, rs.last_update_time)) return std::nullopt;
+  auto u = build_local_map_update_locked(rs, now, robot);
+  if (u) {
+    ++rs.counters.updates_on_divergence;
+    log_info(log_text("Local-Map update ", u->seq, " sent early: a KeyFrame the mobile made is ", d * 100,
+                      " cm from the edge's (edge_slam/update_on_divergence ", params_.update_trigger.divergence_m * 100,
+                      " cm)"));
+  }
+  return u;
+}
+
+std::optional<MapUpdateRecord> EdgeSession::build_local_map_update_locked(RobotState& rs, double now, int robot) {
   const size_t n = static_cast<size_t>(params_.update_size);
   std::vector<std::shared_ptr<KeyFrame>> newest;
   std::unordered_set<uint32_t> chosen;
@@ -348,6 +389,7 @@ std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now, i
   u.kind = MapUpdateKind::kPeriodic;
   u.seq = rs.next_update_seq++;
   rs.mobile_views.clear();  // the update changes the mobile's poses: none of these views holds any more
+  rs.last_update_time = now;
   u.build_start = now;
   u.last_keyframe_seq = rs.counters.last_seq;
   ++rs.counters.updates_built;
@@ -389,6 +431,7 @@ std::optional<MapUpdateRecord> EdgeSession::build_relocalization_update(const Fr
   u.kind = MapUpdateKind::kRelocalization;
   u.seq = rs.next_update_seq++;
   rs.mobile_views.clear();  // as after a periodic update
+  rs.last_update_time = now;
   u.request_frame_id = fr.id;
   u.build_start = now;
   u.last_keyframe_seq = rs.counters.last_seq;

@@ -113,6 +113,14 @@ std::optional<MapUpdateRecord> EdgeSystem::periodic_update(int robot) {
   return session_->build_local_map_update(clock_(), robot);
 }
 
+std::optional<MapUpdateRecord> EdgeSystem::divergence_update(int robot) {
+  double divergence = 0.0;
+  auto update = session_->build_update_on_divergence(clock_(), robot, &divergence);
+  std::lock_guard<std::mutex> lock(figures_mutex_);
+  divergence_cm_.push_back(divergence * 100.0);
+  return update;
+}
+
 void EdgeSystem::stamp_for_publishing(MapUpdateRecord& update) const { update.publish_stamp = clock_(); }
 
 void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double data_now, int robot) {
@@ -213,6 +221,7 @@ EdgeCounters total_counters(const EdgeSession& session) {
     t.resets += c.resets;
     t.updates_built += c.updates_built;
     t.relocalization_updates_built += c.relocalization_updates_built;
+    t.updates_on_divergence += c.updates_on_divergence;
   }
   return t;  // the seqs are robot 0's: each robot has its own (ack)
 }
@@ -343,10 +352,14 @@ void EdgeSystem::write_outputs() {
   {
     std::lock_guard<std::mutex> lock(figures_mutex_);
     m.integer("updates_sent", static_cast<long long>(updates_sent_))
+        .integer("updates_on_divergence", static_cast<long long>(c.updates_on_divergence))
         .integer("update_bytes_sent", static_cast<long long>(update_bytes_))
         .integer("keyframe_bytes_received", static_cast<long long>(keyframe_bytes_))
         .timing("keyframe_transmit_ms", keyframe_latency_ms_)
-        .timing("update_build_ms", update_build_ms_);
+        .timing("update_build_ms", update_build_ms_)
+        // After each KeyFrame Local-Mapping finished: the largest distance between a KeyFrame
+        // the mobile made since its last update and the edge's (EdgeSession::mobile_divergence_m).
+        .timing("mobile_divergence_cm", divergence_cm_);
   }
   try {
     recorder_.metrics(m);

@@ -25,6 +25,7 @@
 #include "edge_slam/module/mapping_threads.h"
 #include "edge_slam/module/module_metrics.h"
 #include "edge_slam/module/robot_frames.h"
+#include "edge_slam/module/update_trigger.h"
 
 namespace edge_slam {
 
@@ -65,6 +66,8 @@ struct EdgeSessionParams {
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
   size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
   double update_period = 5.0;               // seconds between periodic Local-Map updates
+  // An update before the timer when a KeyFrame the mobile made is far from the edge's (module/update_trigger.h).
+  UpdateTriggerParams update_trigger;
   bool loop_closing = true;
   LocalMappingParams mapping;
   LoopClosingParams loop;
@@ -95,6 +98,7 @@ struct EdgeCounters {
   uint64_t pending_points_adopted = 0;  // points of refused KeyFrames taken in by a later one
   uint64_t weak_tracking_inserted = 0;  // inserted while Local-Mapping was busy: condition 2's weak clause
   uint64_t reanchored_after_correction = 0;  // made before the mobile heard of a correction (late_keyframe_anchor.h)
+  uint64_t updates_on_divergence = 0;  // of updates_built: sent before the timer (module/update_trigger.h)
 };
 
 class EdgeSession {
@@ -114,6 +118,13 @@ class EdgeSession {
   uint64_t mapped_seq(int robot = 0) const;
   // Nullopt until a KeyFrame was inserted. Updates are expressed in the robot's own frame.
   std::optional<MapUpdateRecord> build_local_map_update(double now, int robot = 0);
+  // How far (camera centre, m) the edge has any KeyFrame the robot made since its last update
+  // from where the mobile has it: local BA and corrections the mobile has not heard of. 0 when
+  // none is known.
+  double mobile_divergence_m(int robot = 0) const;
+  // The same update as build_local_map_update, built now if that divergence makes one due
+  // (module/update_trigger.h); `divergence`, if given, receives it.
+  std::optional<MapUpdateRecord> build_update_on_divergence(double now, int robot = 0, double* divergence = nullptr);
   std::optional<MapUpdateRecord> build_relocalization_update(const FrameRecord& frame, double now,
                                                              std::string* error = nullptr, int robot = 0);
   // Waits (bounded) for Local-Mapping and Loop-Closing to finish what is queued.
@@ -174,10 +185,13 @@ class EdgeSession {
     // Largest distance so far between a parent KeyFrame's camera on the edge and where the mobile had it when it
     // made a child (local BA and corrections since the last update): logged when it grows past 3 cm.
     double largest_parent_divergence_m = 0.03;
+    std::optional<double> last_update_time;  // `now` of the last update built (periodic or relocalization)
   };
   void reset_locked(int robot);
   void clear_robot(RobotState& rs);
   void restore_robot(int robot, const RobotMapSection& section);  // load_map, under mutex_
+  std::optional<MapUpdateRecord> build_local_map_update_locked(RobotState& rs, double now, int robot);
+  double mobile_divergence_locked(const RobotState& rs, int robot) const;  // mutex_ held
   MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs, int robot) const;
   bool multi() const { return robots_.size() > 1; }
 

@@ -51,6 +51,9 @@ class EdgeSystem {
   // A relocalization request answered with an update, if there is one to give.
   std::optional<MapUpdateRecord> answer_frame(const FrameRecord& frame, size_t bytes, int robot = 0);
   std::optional<MapUpdateRecord> periodic_update(int robot = 0);
+  // After Local-Mapping progressed: the update due now because a KeyFrame the mobile made is far
+  // from the edge's (edge_slam/update_on_divergence; module/update_trigger.h), if any.
+  std::optional<MapUpdateRecord> divergence_update(int robot = 0);
   int robots() const { return session_->robots(); }
   // Around publishing an update: the publish stamp it carries, then its figures and CSV row
   // (construction latency = build start -> serialised and handed over).
@@ -99,7 +102,7 @@ class EdgeSystem {
   size_t loops_announced_ = 0, merges_announced_ = 0;
   void rebase_announcements();
   mutable std::mutex figures_mutex_;
-  std::vector<double> keyframe_latency_ms_, update_build_ms_;
+  std::vector<double> keyframe_latency_ms_, update_build_ms_, divergence_cm_;
   uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
   std::vector<std::vector<double>> update_latency_by_robot_;  // build start -> published, ms
   std::vector<std::vector<double>> keyframe_latency_by_robot_;
