@@ -447,6 +447,7 @@ void EdgeSession::clear_robot(RobotState& rs) {
   rs.pending_points.clear();
   rs.pending_order.clear();
   rs.mobile_views.clear();
+  rs.last_update_time.reset();  // a new map: no update gap to honour (and a replayed clock may restart)
   rs.any_inserted = false;
   rs.relocalization_sent = false;
 }
