@@ -130,7 +130,8 @@ m = json.load(open(path))
 m["ate_online_rmse_m"] = ate["ate_rmse_m"]
 m["ate_online_pairs"] = ate["ate_pairs"]
 json.dump(m, open(path, "w"), indent=2)
-print(f"monolithic: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; KeyFrames {m.get('keyframes')}; "
+print(f"monolithic: ATE of the poses as tracked {ate['ate_rmse_m'] * 100:.2f} cm; KeyFrames created "
+      f"{m.get('keyframes_created')}, kept {m.get('keyframes')}; "
       f"loops closed {m.get('loops_closed')}; lost {m.get('times_lost')} times")
 PY
 fi

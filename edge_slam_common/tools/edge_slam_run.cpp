@@ -241,7 +241,9 @@ int main(int argc, char** argv) {
         .integer("rejected_inputs", c.rejected_inputs)
         .integer("weak_frames", c.weak_frames)
         .integer("wide_motion_searches", c.wide_motion_searches)
-        .integer("keyframes", static_cast<long long>(map->num_keyframes()))
+        .integer("keyframes", static_cast<long long>(map->num_keyframes()))  // kept in the final map
+        // Made by tracking, before Local-Mapping culled any: what the split's mobile count compares with.
+        .integer("keyframes_created", c.keyframes_created)
         .integer("map_points", static_cast<long long>(map->num_map_points()));
     add_module_figures(m, collect_module_figures(slam.local_mapping(), slam.loop_closing()));
     m.timing("tracking_cpu_ms", tracking.frame_cpu_times_ms()).timing("tracking_ms", tracking.frame_times_ms());

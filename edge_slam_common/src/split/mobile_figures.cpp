@@ -127,6 +127,7 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .integer("relocalizations", t.relocalizations)
       .integer("rejected_inputs", t.rejected_inputs + static_cast<long long>(inputs_rejected_))
       .integer("keyframes", static_cast<long long>(s.keyframes_sent()))
+      .integer("keyframes_created", t.keyframes_created)  // by tracking, as the monolithic runner reports it
       .integer("local_map_keyframes", static_cast<long long>(s.local_map_keyframes()))
       .integer("local_map_peak", static_cast<long long>(s.local_map_peak()))
       .integer("local_map_cap", static_cast<long long>(s.local_map_cap()))
