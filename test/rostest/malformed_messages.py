@@ -135,6 +135,11 @@ def _keyframe_only(rng):
         m.new_point_kp_index = [3] * n
         m.new_point_xyz = [0.5] * (3 * n)
 
+    def implied_position_without_depth(m):
+        # Format 4: no positions means back-project each source keypoint; this one has no depth.
+        m.new_point_xyz = []
+        m.kp_depth[m.new_point_kp_index[0]] = 0
+
     def too_many_covisibility(m):
         m.covis_ids = list(range(1, 4002))
         m.covis_weights = [1] * 4001
@@ -154,6 +159,7 @@ def _keyframe_only(rng):
         'obs_reused_keypoint': lambda m: m.obs_kp_index.__setitem__(1, m.obs_kp_index[0]),
         'new_point_not_finite': lambda m: m.new_point_xyz.__setitem__(rng.randint(0, 2), rng.choice(bad_float)),
         'new_point_xyz_size': lambda m: setattr(m, 'new_point_xyz', _shorter(m.new_point_xyz)),
+        'new_point_implied_without_depth': implied_position_without_depth,
         'new_point_kp_range': lambda m: m.new_point_kp_index.__setitem__(0, rng.randint(N_KP, 65535)),
         'new_point_reserved_id': lambda m: m.new_point_id.__setitem__(0, NO_ID),
         'new_point_duplicates_observation': lambda m: m.new_point_id.__setitem__(0, m.obs_point_id[0]),

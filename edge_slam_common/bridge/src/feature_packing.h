@@ -25,6 +25,10 @@ inline uint16_t quantize_depth(float z) {
   const float q = std::round(z * kDepthUnits);
   return q > 65535.0f ? 0 : static_cast<uint16_t>(q);  // beyond 16 m: treated as no depth
 }
+// What a receiver reads back (unpack_camera_and_features below, and the new points' check in
+// keyframe_conversion.cpp, which must see exactly the receiver's values).
+inline float dequantize_pixel(int16_t q) { return q / kPixelUnits; }
+inline float dequantize_depth(uint16_t q) { return q / kDepthUnits; }
 inline uint8_t quantize_angle(float deg) {
   if (!std::isfinite(deg)) return 0;
   float a = std::fmod(deg, 360.0f);
@@ -107,11 +111,11 @@ DecodeStatus unpack_camera_and_features(const Msg& msg, const MessageLimits& lim
   f.depth.resize(n);
   for (size_t i = 0; i < n; ++i) {
     cv::KeyPoint& kp = f.keypoints[i];
-    kp.pt.x = msg.kp_xy[2 * i] / kPixelUnits;
-    kp.pt.y = msg.kp_xy[2 * i + 1] / kPixelUnits;
+    kp.pt.x = dequantize_pixel(msg.kp_xy[2 * i]);
+    kp.pt.y = dequantize_pixel(msg.kp_xy[2 * i + 1]);
     kp.octave = msg.kp_octave[i];
     kp.angle = msg.kp_angle[i] / kAngleUnits;
-    f.depth[i] = msg.kp_depth[i] / kDepthUnits;
+    f.depth[i] = dequantize_depth(msg.kp_depth[i]);
   }
   f.descriptors.create(static_cast<int>(n), 32, CV_8U);
   if (n > 0) std::memcpy(f.descriptors.data, msg.descriptors.data(), 32 * n);

@@ -1,10 +1,12 @@
 // KeyFrameRecord <-> edge_slam_msgs::KeyFrame.
 #include <edge_slam_bridge/message_conversion.h>
 
+#include <edge_slam/io/new_point_position.h>
 #include <edge_slam/io/record_checks.h>
 #include <edge_slam_bridge/pose_conversion.h>
 #include <ros/serialization.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "feature_packing.h"
@@ -28,10 +30,20 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
     msg.obs_kp_index.push_back(static_cast<uint16_t>(kp));
     msg.obs_point_id.push_back(point);
   }
+  // The positions go only where the receiver could not compute them from the keypoints as it
+  // will read them (io/new_point_position.h): all of them, or none.
+  const bool positions_implied = std::all_of(r.new_points.begin(), r.new_points.end(), [&](const NewPointRecord& p) {
+    const size_t k = p.kp_index;
+    if (k >= msg.kp_depth.size()) return false;
+    const auto at = back_project(r.camera, r.T_wc, packing::dequantize_pixel(msg.kp_xy[2 * k]),
+                                 packing::dequantize_pixel(msg.kp_xy[2 * k + 1]), packing::dequantize_depth(msg.kp_depth[k]));
+    return at && (p.position.cast<double>() - *at).norm() <= kNewPointPositionTolerance;
+  });
   for (const NewPointRecord& p : r.new_points) {
     msg.new_point_id.push_back(p.id);
     msg.new_point_kp_index.push_back(static_cast<uint16_t>(p.kp_index));
-    msg.new_point_xyz.insert(msg.new_point_xyz.end(), {p.position.x(), p.position.y(), p.position.z()});
+    if (!positions_implied)
+      msg.new_point_xyz.insert(msg.new_point_xyz.end(), {p.position.x(), p.position.y(), p.position.z()});
   }
   msg.parent_id = r.parent_id;
   msg.tracked_points = r.tracked_points;
@@ -76,18 +88,29 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
 
   const size_t m = msg.new_point_id.size();
   if (m > limits.max_new_points) return DecodeStatus::failure("too many new points: " + std::to_string(m));
-  if (msg.new_point_kp_index.size() != m || msg.new_point_xyz.size() != 3 * m)
+  // No positions: each is its source keypoint back-projected (io/new_point_position.h).
+  const bool positions_implied = msg.new_point_xyz.empty();
+  if (msg.new_point_kp_index.size() != m || (!positions_implied && msg.new_point_xyz.size() != 3 * m))
     return DecodeStatus::failure("new_point arrays disagree: ids " + std::to_string(m) + ", kp_index " +
                                  std::to_string(msg.new_point_kp_index.size()) + ", xyz " +
-                                 std::to_string(msg.new_point_xyz.size()) + " (expected 3 per point)");
+                                 std::to_string(msg.new_point_xyz.size()) +
+                                 " (expected 3 per point, or none: back-projected from the keypoints' depth)");
   r.new_points.resize(m);
   for (size_t i = 0; i < m; ++i) {
     NewPointRecord& p = r.new_points[i];
     p.id = msg.new_point_id[i];
     p.kp_index = msg.new_point_kp_index[i];
-    p.position = {msg.new_point_xyz[3 * i], msg.new_point_xyz[3 * i + 1], msg.new_point_xyz[3 * i + 2]};
     if (p.id == kNoId) return DecodeStatus::failure("new point with the reserved id");
     if (p.kp_index >= n) return DecodeStatus::failure("new_point_kp_index out of range at " + std::to_string(i));
+    if (positions_implied) {
+      const auto at = back_projected_keypoint(r, p.kp_index);
+      if (!at)
+        return DecodeStatus::failure("new point " + std::to_string(p.id) + " has no position and its keypoint " +
+                                     std::to_string(p.kp_index) + " no depth to back-project");
+      p.position = at->cast<float>();
+    } else {
+      p.position = {msg.new_point_xyz[3 * i], msg.new_point_xyz[3 * i + 1], msg.new_point_xyz[3 * i + 2]};
+    }
     if (!p.position.allFinite()) return DecodeStatus::failure("new point " + std::to_string(p.id) + " is not finite");
   }
 

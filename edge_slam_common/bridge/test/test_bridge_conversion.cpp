@@ -1,4 +1,5 @@
 // Round trips and rejection of malformed messages for the message <-> record bridge.
+#include <edge_slam/io/new_point_position.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <gtest/gtest.h>
 #include <ros/serialization.h>
@@ -72,6 +73,58 @@ TEST(BridgeConversion, KeyFrameWireSizeIsCompact) {
   // 32 KB of descriptors dominate; everything else is a few bytes per keypoint.
   EXPECT_LT(bytes, 48u * 1024u);
   std::cout << "KeyFrame wire size at 1000 features, 400 observations, 200 new points: " << bytes << " bytes\n";
+}
+
+// The mobile's new points are its keypoints back-projected (tracking's KeyFrame creation).
+KeyFrameRecord with_back_projected_points(KeyFrameRecord r) {
+  for (NewPointRecord& p : r.new_points) {
+    for (; p.kp_index < r.features.size() && !(r.features.depth[p.kp_index] > 0); ++p.kp_index) {}
+    p.position = back_projected_keypoint(r, p.kp_index).value().cast<float>();
+  }
+  return r;
+}
+
+TEST(BridgeConversion, NewPointPositionsThatTheKeypointsImplyAreLeftOutAndComputedBack) {
+  KeyFrameRecord in = make_keyframe(1000, 400, 0);
+  for (uint32_t i = 0; i < 200; ++i) in.new_points.push_back({5000 + i, 400 + 2 * i, {}});  // kp 400, 402, ...
+  in = with_back_projected_points(in);
+  const edge_slam_msgs::KeyFrame msg = to_message(in);
+  EXPECT_TRUE(msg.new_point_xyz.empty());
+  EXPECT_EQ(msg.new_point_id.size(), 200u);
+  KeyFrameRecord out;
+  const DecodeStatus s = from_message(msg, out);
+  ASSERT_TRUE(s.ok) << s.error;
+  ASSERT_EQ(out.new_points.size(), in.new_points.size());
+  double worst = 0;
+  for (size_t i = 0; i < in.new_points.size(); ++i) {
+    EXPECT_EQ(out.new_points[i].id, in.new_points[i].id);
+    EXPECT_EQ(out.new_points[i].kp_index, in.new_points[i].kp_index);
+    worst = std::max(worst, double((out.new_points[i].position - in.new_points[i].position).norm()));
+  }
+  EXPECT_LE(worst, kNewPointPositionTolerance) << "depths up to 8 m: within the quantisation";
+  EXPECT_GT(worst, 0.0) << "computed from the quantised keypoints, not copied";
+  // 12 bytes a point fewer than the same KeyFrame with one position that is not a back-projection.
+  KeyFrameRecord moved = in;
+  moved.new_points[7].position.x() += 0.01f;
+  const edge_slam_msgs::KeyFrame full = to_message(moved);
+  ASSERT_EQ(full.new_point_xyz.size(), 3u * 200u) << "all positions or none";
+  EXPECT_EQ(ros::serialization::serializationLength(full) - ros::serialization::serializationLength(msg), 12u * 200u);
+  ASSERT_TRUE(from_message(full, out).ok);
+  EXPECT_TRUE(out.new_points[7].position.isApprox(moved.new_points[7].position)) << "sent as it is";
+}
+
+TEST(BridgeConversion, ANewPointWithoutPositionNeedsItsKeypointsDepth) {
+  KeyFrameRecord in = make_keyframe(50, 20, 0);
+  in.new_points.push_back({5000, 21, {}});
+  in = with_back_projected_points(in);
+  edge_slam_msgs::KeyFrame msg = to_message(in);
+  ASSERT_TRUE(msg.new_point_xyz.empty());
+  KeyFrameRecord out;
+  ASSERT_TRUE(from_message(msg, out).ok);
+  msg.kp_depth[msg.new_point_kp_index[0]] = 0;  // the keypoint lost its depth on the way
+  const DecodeStatus s = from_message(msg, out);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.error.find("no depth"), std::string::npos) << s.error;
 }
 
 TEST(BridgeConversion, RejectsMalformedKeyFrames) {
