@@ -2,7 +2,7 @@
 # usage: run.sh DATASET N TAG...   (TAG: on | off | mono) -> /tmp/ab/<name>/<tag>_<i>
 cd /work/main
 DS=$1; N=$2; shift 2
-name=$(basename $DS)
+name=$(basename $DS); mkdir -p ${ABROOT:-/tmp/ab}/$name
 for i in $(seq 1 $N); do
   for tag in "$@"; do
     out=${ABROOT:-/tmp/ab}/$name/${tag}_$i
