@@ -15,9 +15,9 @@
 
 namespace edge_slam {
 
-// How far a position left out may be from the one the receiver computes: below a tenth of an
-// RGB-D depth sensor's noise at 1 m, above what 1/8-pixel and 1/4-mm quantisation moves a point
-// at the ranges KeyFrames make points (1/16 px at 4 m: 0.5 mm).
+// How far a position left out may be from the one the receiver computes: within a Kinect-class
+// depth sensor's noise at 1 m (a few mm) and far below it at the ranges points are made from;
+// above what the 1/8-pixel and 1/4-mm quantisation moves a point there (1/16 px at 4 m: 0.5 mm).
 constexpr double kNewPointPositionTolerance = 0.002;  // metres
 
 // The undistorted pixel (x, y) at depth z (metres) in the world of the camera pose T_wc;
