@@ -45,3 +45,15 @@ TEST(LateKeyFrameAnchor, NothingWhenAnUpdateWasBuiltOrNoCorrectionHappened) {
   EXPECT_FALSE(late_keyframe_correction(view, Eigen::Isometry3d::Identity(), moved, 4, 10).has_value())
       << "no correction since (local BA alone does not count)";
 }
+
+TEST(LateKeyFrameAnchor, DistanceFromTheMobileViewIsTheCameraCentresGapOrUnknown) {
+  const Eigen::Isometry3d T_group_robot = yaw_pose(1.0, 0.0, 2.0, 0.5);
+  const Eigen::Isometry3d kf_robot = yaw_pose(0.0, 0.2, 0.3, 0.1);                   // T_cw as the mobile sent it
+  Eigen::Isometry3d kf_now = (kf_robot * T_group_robot.inverse()).inverse();         // T_wc on the edge
+  kf_now.translation() += Eigen::Vector3d(0.03, -0.04, 0.0);                          // local BA moved it 5 cm
+  kf_now.linear() = kf_now.linear() * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const auto d = distance_from_mobile_view({kf_robot, 4, 0}, T_group_robot, 4, kf_now);
+  ASSERT_TRUE(d.has_value());
+  EXPECT_NEAR(*d, 0.05, 1e-9) << "the camera centre's displacement; a turn in place does not count";
+  EXPECT_FALSE(distance_from_mobile_view({kf_robot, 4, 0}, T_group_robot, 5, kf_now)) << "an update was built since";
+}

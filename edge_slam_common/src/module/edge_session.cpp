@@ -217,11 +217,11 @@ KeyFrameVerdict EdgeSession::receive_keyframe(const KeyFrameRecord& r, double no
     const auto parent = view == rs.mobile_views.end() ? nullptr : map_->keyframe(r.parent_id);
     if (parent && !parent->is_bad()) {
       // Instrumentation: how far edge local BA has moved the parent from the mobile's view.
-      if (const auto T_cw_then = mobile_pose_in_map(view->second, T_group_robot, rs.next_update_seq)) {
-        const double divergence = (parent->T_wc().translation() - T_cw_then->inverse().translation()).norm();
-        if (divergence > rs.largest_parent_divergence_m) {
-          rs.largest_parent_divergence_m = divergence;
-          log_info(log_text("KeyFrame ", kf->id(), ": its parent ", r.parent_id, " is ", divergence * 100,
+      if (const auto divergence =
+              distance_from_mobile_view(view->second, T_group_robot, rs.next_update_seq, parent->T_wc())) {
+        if (*divergence > rs.largest_parent_divergence_m) {
+          rs.largest_parent_divergence_m = *divergence;
+          log_info(log_text("KeyFrame ", kf->id(), ": its parent ", r.parent_id, " is ", *divergence * 100,
               " cm from where the mobile has it (",
               map_moves_ == view->second.map_moves ? "local BA only" : "after a correction", ")"));
         }
@@ -345,8 +345,8 @@ double EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot) co
   for (const auto& [id, view] : rs.mobile_views) {
     const auto kf = map_->keyframe(id);
     if (!kf || kf->is_bad()) continue;
-    if (const auto T_cw_mobile = mobile_pose_in_map(view, T_group_robot, rs.next_update_seq))
-      largest = std::max(largest, (kf->T_wc().translation() - T_cw_mobile->inverse().translation()).norm());
+    if (const auto d = distance_from_mobile_view(view, T_group_robot, rs.next_update_seq, kf->T_wc()))
+      largest = std::max(largest, *d);
   }
   return largest;
 }

@@ -34,6 +34,16 @@ inline std::optional<Eigen::Isometry3d> mobile_pose_in_map(const MobileKeyFrameV
   return view.T_cw_robot * T_group_robot.inverse();
 }
 
+// How far (camera centre, m) a KeyFrame the edge now has at T_wc_now is from where the mobile
+// has it, or nullopt when the mobile's view is no longer known (as mobile_pose_in_map).
+inline std::optional<double> distance_from_mobile_view(const MobileKeyFrameView& view,
+                                                       const Eigen::Isometry3d& T_group_robot,
+                                                       uint64_t update_seq_now, const Eigen::Isometry3d& T_wc_now) {
+  const auto T_cw_mobile = mobile_pose_in_map(view, T_group_robot, update_seq_now);
+  if (!T_cw_mobile) return std::nullopt;
+  return (T_wc_now.translation() - T_cw_mobile->inverse().translation()).norm();
+}
+
 // The world -> world motion M (X' = M X; a pose T_cw becomes T_cw M^-1) that carries a new
 // KeyFrame and its new points from the mobile's uncorrected view onto its parent's corrected
 // pose, or nullopt when nothing is to be done or the mobile's view is not known.
