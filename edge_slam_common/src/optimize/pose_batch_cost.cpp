@@ -27,15 +27,10 @@ PoseBatchCost::PoseBatchCost(const PinholeCamera& cam, const std::vector<PixelMe
   mutable_parameter_block_sizes()->assign({4, 3});
 }
 
-bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+bool PoseBatchCost::evaluate_rows(double const* const* parameters, double* residuals, double** jacobians) const {
   const double vx = parameters[0][0], vy = parameters[0][1], vz = parameters[0][2], w = parameters[0][3];
   const double tx = parameters[1][0], ty = parameters[1][1], tz = parameters[1][2];
   const bool want_jacobian = jacobians != nullptr && (jacobians[0] != nullptr || jacobians[1] != nullptr);
-  const bool rows_out = form_ == Form::kRows;
-  // Square-root form: the normal matrix A = J^T J and gradient g = J^T r over all rows, with
-  // J's columns (q x, y, z, w, t x, y, z).
-  Eigen::Matrix<double, 7, 7> A = Eigen::Matrix<double, 7, 7>::Zero();
-  Eigen::Matrix<double, 7, 1> g = Eigen::Matrix<double, 7, 1>::Zero();
   double sum = 0.0;
   for (size_t i = 0; i < obs_.size(); ++i) {
     const Observation& o = obs_[i];
@@ -97,54 +92,127 @@ bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals,
         }
       }
     }
-    if (rows_out) {  // inactive observations: zero rows
-      for (int k = 0; k < n; ++k) {
-        residuals[o.first_row + k] = r[k];
-        if (jacobians && jacobians[0])
-          for (int c = 0; c < 4; ++c) jacobians[0][4 * (o.first_row + k) + c] = J[k][c];
-        if (jacobians && jacobians[1])
-          for (int c = 0; c < 3; ++c) jacobians[1][3 * (o.first_row + k) + c] = J[k][4 + c];
+    for (int k = 0; k < n; ++k) {  // inactive observations: zero rows
+      residuals[o.first_row + k] = r[k];
+      if (jacobians && jacobians[0])
+        for (int c = 0; c < 4; ++c) jacobians[0][4 * (o.first_row + k) + c] = J[k][c];
+      if (jacobians && jacobians[1])
+        for (int c = 0; c < 3; ++c) jacobians[1][3 * (o.first_row + k) + c] = J[k][4 + c];
+    }
+  }
+  robust_sum_ = sum;
+  return true;
+}
+
+bool PoseBatchCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  return form_ == Form::kRows ? evaluate_rows(parameters, residuals, jacobians)
+                              : evaluate_square_root(parameters, residuals, jacobians);
+}
+
+bool PoseBatchCost::evaluate_square_root(double const* const* parameters, double* residuals,
+                                         double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[1]);
+  // Eigen's q * X is R(q) X for a unit quaternion: one matrix for all points instead of the
+  // quaternion formula per point.
+  const Eigen::Matrix3d R = q.toRotationMatrix();
+  const bool want_jacobian = jacobians != nullptr && (jacobians[0] != nullptr || jacobians[1] != nullptr);
+  // Normal equations in the manifold's tangent space (d rotation, d t): Ceres' quaternion
+  // manifold perturbs q as exp(delta) * q, which turns R X by 2 delta, so a row g^T of
+  // d r / d Xc has d r / d delta = 2 (R X x g)^T and d r / d t = g^T. Upper triangle only.
+  double A[6][6] = {};
+  double b[6] = {};
+  double sum = 0.0;
+  for (size_t i = 0; i < obs_.size(); ++i) {
+    if (!active_[i]) continue;
+    const Observation& o = obs_[i];
+    const Eigen::Vector3d Xr = R * o.point;
+    const double xc = Xr.x() + t.x(), yc = Xr.y() + t.y(), zc = Xr.z() + t.z();
+    if (!(zc > kMinDepth)) return false;
+    const double inv_z = 1.0 / zc;
+    const double u = fx_ * xc * inv_z + cx_;
+    const double vv = fy_ * yc * inv_z + cy_;
+    double r[3];
+    r[0] = o.sqrt_info * (o.measured.x() - u);
+    r[1] = o.sqrt_info * (o.measured.y() - vv);
+    r[2] = o.stereo ? o.sqrt_info * (o.measured.z() - (u - bf_ * inv_z)) : 0.0;
+    const double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    double scale = 1.0;
+    if (robust_) {  // ceres::HuberLoss and Ceres' first-order correction, as in evaluate_rows
+      const double delta = o.stereo ? huber_delta_stereo_ : huber_delta_mono_;
+      if (s > delta * delta) {
+        const double root = std::sqrt(s);
+        sum += 2.0 * delta * root - delta * delta;
+        scale = std::sqrt(std::max(std::numeric_limits<double>::min(), delta / root));
+      } else {
+        sum += s;
       }
-    } else if (want_jacobian && active_[i]) {
-      for (int k = 0; k < n; ++k) {  // A += J_k^T J_k, g += J_k^T r_k
-        const Eigen::Map<const Eigen::Matrix<double, 7, 1>> row(J[k]);
-        A.noalias() += row * row.transpose();
-        g += row * r[k];
+    } else {
+      sum += s;
+    }
+    if (!want_jacobian) continue;
+    const int n = o.stereo ? 3 : 2;
+    const double kk = -o.sqrt_info * scale;
+    const double a = kk * fx_ * inv_z, bb = kk * fy_ * inv_z, c = -kk * fx_ * xc * inv_z * inv_z;
+    const double d = -kk * fy_ * yc * inv_z * inv_z, e = kk * bf_ * inv_z * inv_z;
+    const double rows[3][3] = {{a, 0.0, c}, {0.0, bb, d}, {a, 0.0, c + e}};
+    for (int k = 0; k < n; ++k) {
+      const double* g = rows[k];
+      const double J[6] = {2.0 * (Xr.y() * g[2] - Xr.z() * g[1]), 2.0 * (Xr.z() * g[0] - Xr.x() * g[2]),
+                           2.0 * (Xr.x() * g[1] - Xr.y() * g[0]), g[0], g[1], g[2]};
+      const double rk = scale * r[k];
+      for (int p = 0; p < 6; ++p) {
+        b[p] += J[p] * rk;
+        for (int m = p; m < 6; ++m) A[p][m] += J[p] * J[m];
       }
     }
   }
   robust_sum_ = sum;
-  if (!rows_out) write_square_root(A, g, residuals, want_jacobian ? jacobians : nullptr);
+  if (!want_jacobian) {  // a cost-only evaluation: Ceres reads the cost, not these rows
+    std::fill(residuals, residuals + kSquareRootRows, 0.0);
+    return true;
+  }
+  Eigen::Matrix<double, 6, 6> A6;
+  for (int p = 0; p < 6; ++p)
+    for (int m = p; m < 6; ++m) A6(p, m) = A6(m, p) = A[p][m];
+  write_square_root(A6, Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b), parameters[0], residuals, jacobians);
   return true;
 }
 
-void PoseBatchCost::write_square_root(const Eigen::Matrix<double, 7, 7>& A, const Eigen::Matrix<double, 7, 1>& g,
-                                      double* residuals, double** jacobians) const {
-  if (jacobians == nullptr) {  // a cost-only evaluation: Ceres reads the cost, not these rows
-    std::fill(residuals, residuals + kSquareRootRows, 0.0);
-    return;
-  }
-  // A = P^T L D L^T P (pivoted LDL^T: A is only semi-definite). R = D^1/2 L^T P gives
-  // R^T R = A, and r' = D^-1/2 L^-1 P g gives R^T r' = g (g = J^T r lies in A's range).
-  const Eigen::LDLT<Eigen::Matrix<double, 7, 7>> ldlt(A);
-  const Eigen::PermutationMatrix<7> P(ldlt.transpositionsP());
-  Eigen::Matrix<double, 7, 7> R = Eigen::Matrix<double, 7, 7>(ldlt.matrixU()) * P;  // L^T P
-  Eigen::Matrix<double, 7, 1> y = P * g;                                               // P g
+void PoseBatchCost::write_square_root(const Eigen::Matrix<double, 6, 6>& A, const Eigen::Matrix<double, 6, 1>& g,
+                                      const double* quaternion, double* residuals, double** jacobians) const {
+  // A = P^T L D L^T P (pivoted LDL^T: A is only semi-definite). S = D^1/2 L^T P gives
+  // S^T S = A, and r' = D^-1/2 L^-1 P g gives S^T r' = g (g = J^T r lies in A's range).
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(A);
+  const Eigen::PermutationMatrix<6> P(ldlt.transpositionsP());
+  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>(ldlt.matrixU()) * P;  // L^T P
+  Eigen::Matrix<double, 6, 1> y = P * g;                                               // P g
   ldlt.matrixL().solveInPlace(y);                                                      // L^-1 P g
-  const Eigen::Matrix<double, 7, 1> D = ldlt.vectorD();
-  for (int i = 0; i < kSquareRootRows; ++i) {
+  const Eigen::Matrix<double, 6, 1> D = ldlt.vectorD();
+  for (int i = 0; i < 6; ++i) {
     // A pivot that rounding left at or below zero belongs to a direction the rows do not
     // constrain: an empty row (its share of g is rounding noise too).
     const double d = D[i] > 1e-300 ? std::sqrt(D[i]) : 0.0;
-    R.row(i) *= d;
+    S.row(i) *= d;
     residuals[i] = d > 0.0 ? y[i] / d : 0.0;
   }
-  if (jacobians[0])
-    for (int i = 0; i < kSquareRootRows; ++i)
-      for (int c = 0; c < 4; ++c) jacobians[0][4 * i + c] = R(i, c);
-  if (jacobians[1])
-    for (int i = 0; i < kSquareRootRows; ++i)
-      for (int c = 0; c < 3; ++c) jacobians[1][3 * i + c] = R(i, 4 + c);
+  residuals[6] = 0.0;  // the seventh row is empty: the block keeps a fixed size
+  // Back to the ambient quaternion: Ceres multiplies the quaternion columns by the manifold's
+  // plus-Jacobian M (4 x 3, orthonormal columns for a unit quaternion), so rows S_rot M^T give
+  // back S_rot. Row 7 is zero.
+  if (jacobians[0]) {
+    double M[12];
+    quaternion_manifold_.PlusJacobian(quaternion, M);  // row-major 4 x 3
+    for (int i = 0; i < 6; ++i)
+      for (int c = 0; c < 4; ++c)
+        jacobians[0][4 * i + c] = S(i, 0) * M[3 * c] + S(i, 1) * M[3 * c + 1] + S(i, 2) * M[3 * c + 2];
+    std::fill(jacobians[0] + 24, jacobians[0] + 28, 0.0);
+  }
+  if (jacobians[1]) {
+    for (int i = 0; i < 6; ++i)
+      for (int c = 0; c < 3; ++c) jacobians[1][3 * i + c] = S(i, 3 + c);
+    std::fill(jacobians[1] + 18, jacobians[1] + 21, 0.0);
+  }
 }
 
 }  // namespace optimize_detail
