@@ -121,13 +121,13 @@ TEST(Config, ShippedConfigsLoad) {
   ConfigMap paper = slam;
   paper.set("edge_slam/reanchor_late_keyframes", "false");
   EXPECT_FALSE(load_edge_session_params(paper).reanchor_late_keyframes);
-  // The early update on divergence (module/update_trigger.h): shipped off (0, the paper's timer only), selectable.
+  // The early update on divergence (module/update_trigger.h): shipped at 2 cm; 0 = the paper's timer only.
   const UpdateTriggerParams trigger = load_edge_session_params(slam).update_trigger;
-  EXPECT_DOUBLE_EQ(trigger.divergence_m, 0.0);
+  EXPECT_DOUBLE_EQ(trigger.divergence_m, 0.02);
   EXPECT_DOUBLE_EQ(trigger.min_gap_s, 1.0);
   ConfigMap early = slam;
-  early.set("edge_slam/update_on_divergence", "0.02");
-  EXPECT_DOUBLE_EQ(load_edge_session_params(early).update_trigger.divergence_m, 0.02);
+  early.set("edge_slam/update_on_divergence", "0");
+  EXPECT_DOUBLE_EQ(load_edge_session_params(early).update_trigger.divergence_m, 0.0);
   early.set("edge_slam/update_on_divergence", "-0.5");
   EXPECT_NE(error_of([&] { load_edge_session_params(early); }).find("update_on_divergence"), std::string::npos);
 }
