@@ -27,6 +27,23 @@ PoseBatchCost::PoseBatchCost(const PinholeCamera& cam, const std::vector<PixelMe
   mutable_parameter_block_sizes()->assign({4, 3});
 }
 
+double PoseBatchCost::add_loss(double squared_norm, bool stereo, double* sum) const {
+  if (!robust_) {
+    *sum += squared_norm;
+    return 1.0;
+  }
+  // ceres::HuberLoss::Evaluate, inline (it is a library call per observation otherwise), and
+  // Ceres' first-order correction (Huber: rho'' <= 0): the rows are scaled by sqrt(rho').
+  const double delta = stereo ? huber_delta_stereo_ : huber_delta_mono_;
+  if (squared_norm <= delta * delta) {
+    *sum += squared_norm;
+    return 1.0;
+  }
+  const double root = std::sqrt(squared_norm);
+  *sum += 2.0 * delta * root - delta * delta;
+  return std::sqrt(std::max(std::numeric_limits<double>::min(), delta / root));
+}
+
 bool PoseBatchCost::evaluate_rows(double const* const* parameters, double* residuals, double** jacobians) const {
   const double vx = parameters[0][0], vy = parameters[0][1], vz = parameters[0][2], w = parameters[0][3];
   const double tx = parameters[1][0], ty = parameters[1][1], tz = parameters[1][2];
@@ -53,21 +70,7 @@ bool PoseBatchCost::evaluate_rows(double const* const* parameters, double* resid
       r[1] = o.sqrt_info * (o.measured.y() - vv);
       if (o.stereo) r[2] = o.sqrt_info * (o.measured.z() - (u - bf_ * inv_z));
       const double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-      // The per-observation loss and Ceres' first-order correction (Huber: rho'' <= 0).
-      double scale = 1.0;
-      if (robust_) {
-        // ceres::HuberLoss::Evaluate, inline (it is a library call per observation otherwise).
-        const double delta = o.stereo ? huber_delta_stereo_ : huber_delta_mono_;
-        if (s > delta * delta) {
-          const double root = std::sqrt(s);
-          sum += 2.0 * delta * root - delta * delta;
-          scale = std::sqrt(std::max(std::numeric_limits<double>::min(), delta / root));
-        } else {
-          sum += s;
-        }
-      } else {
-        sum += s;
-      }
+      const double scale = add_loss(s, o.stereo, &sum);
       for (int k = 0; k < n; ++k) r[k] *= scale;
       if (want_jacobian) {
         // Row k of d r / d Xc (= d r / d t): -sqrt_info * d projection_k / d Xc, times the loss scale.
@@ -137,19 +140,7 @@ bool PoseBatchCost::evaluate_square_root(double const* const* parameters, double
     r[1] = o.sqrt_info * (o.measured.y() - vv);
     r[2] = o.stereo ? o.sqrt_info * (o.measured.z() - (u - bf_ * inv_z)) : 0.0;
     const double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-    double scale = 1.0;
-    if (robust_) {  // ceres::HuberLoss and Ceres' first-order correction, as in evaluate_rows
-      const double delta = o.stereo ? huber_delta_stereo_ : huber_delta_mono_;
-      if (s > delta * delta) {
-        const double root = std::sqrt(s);
-        sum += 2.0 * delta * root - delta * delta;
-        scale = std::sqrt(std::max(std::numeric_limits<double>::min(), delta / root));
-      } else {
-        sum += s;
-      }
-    } else {
-      sum += s;
-    }
+    const double scale = add_loss(s, o.stereo, &sum);
     if (!want_jacobian) continue;
     const int n = o.stereo ? 3 : 2;
     const double kk = -o.sqrt_info * scale;

@@ -78,6 +78,8 @@ class PoseBatchCost : public ceres::CostFunction {
     bool stereo;
     int first_row;
   };
+  // The observation's loss added to *sum; returns the factor its rows are scaled by.
+  double add_loss(double squared_norm, bool stereo, double* sum) const;
   bool evaluate_rows(double const* const* parameters, double* residuals, double** jacobians) const;
   bool evaluate_square_root(double const* const* parameters, double* residuals, double** jacobians) const;
   // S, r' of the square-root form from the tangent-space A and g into Ceres' ambient arrays.

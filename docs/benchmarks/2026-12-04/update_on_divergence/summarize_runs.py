@@ -9,7 +9,7 @@ for d in sorted(glob.glob(f"{root}/*_*")):
     e = m.get("edge", {})
     dur = 24.1 if "fr1" in root else 30.0
     r = dict(final=m["ate_rmse_m"]*100, online=(m.get("ate_online_rmse_m") or float("nan"))*100,
-             jump=(m.get("update_jump_max_m") or float("nan"))*100, kf=m.get("keyframes_made", m.get("keyframes")),
+             jump=(m.get("update_jump_max_m") or float("nan"))*100, kf=m.get("keyframes_created", m.get("keyframes_made", m.get("keyframes"))),
              early=e.get("updates_on_divergence", 0), upd=m.get("updates", {}).get("accepted") if isinstance(m.get("updates"), dict) else None,
              lost=m.get("times_lost"), loops=m.get("loops_closed"),
              up=m.get("keyframe_bytes_sent", 0)*8/dur/1e6, down=m.get("update_bytes_received", 0)*8/dur/1e6,
