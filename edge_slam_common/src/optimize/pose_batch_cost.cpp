@@ -47,6 +47,9 @@ double PoseBatchCost::add_loss(double squared_norm, bool stereo, double* sum) co
 bool PoseBatchCost::evaluate_rows(double const* const* parameters, double* residuals, double** jacobians) const {
   const double vx = parameters[0][0], vy = parameters[0][1], vz = parameters[0][2], w = parameters[0][3];
   const double tx = parameters[1][0], ty = parameters[1][1], tz = parameters[1][2];
+  // The point is rotated as in evaluate_square_root (one matrix), so both forms give the same
+  // residuals and cost to the bit; the quaternion formula below is only for the Jacobian.
+  const Eigen::Matrix3d R = Eigen::Map<const Eigen::Quaterniond>(parameters[0]).toRotationMatrix();
   const bool want_jacobian = jacobians != nullptr && (jacobians[0] != nullptr || jacobians[1] != nullptr);
   double sum = 0.0;
   for (size_t i = 0; i < obs_.size(); ++i) {
@@ -55,13 +58,10 @@ bool PoseBatchCost::evaluate_rows(double const* const* parameters, double* resid
     double r[3] = {0.0, 0.0, 0.0};
     double J[3][7] = {};
     if (active_[i]) {
-      // Eigen's q * X for a unit quaternion q = (v, w): X + 2w (v x X) + 2 v x (v x X).
       const double X = o.point.x(), Y = o.point.y(), Z = o.point.z();
       const double cx = vy * Z - vz * Y, cy = vz * X - vx * Z, cz = vx * Y - vy * X;  // v x X
-      const double ccx = vy * cz - vz * cy, ccy = vz * cx - vx * cz, ccz = vx * cy - vy * cx;  // v x (v x X)
-      const double xc = X + 2.0 * w * cx + 2.0 * ccx + tx;
-      const double yc = Y + 2.0 * w * cy + 2.0 * ccy + ty;
-      const double zc = Z + 2.0 * w * cz + 2.0 * ccz + tz;
+      const Eigen::Vector3d Xr = R * o.point;
+      const double xc = Xr.x() + tx, yc = Xr.y() + ty, zc = Xr.z() + tz;
       if (!(zc > kMinDepth)) return false;
       const double inv_z = 1.0 / zc;
       const double u = fx_ * xc * inv_z + cx_;
