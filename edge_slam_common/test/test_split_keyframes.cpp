@@ -212,6 +212,24 @@ TEST(UpdateTrigger, DueWhenAMobileKeyFrameIsFarAndTheLastUpdateIsNotTooRecent) {
   EXPECT_FALSE(divergence_update_due(p, 1.0, 10.0, std::nullopt)) << "the paper's prototype: the timer only";
 }
 
+// The periodic update on the data clock, polled (the nodelet's wall timer reads the bag's clock).
+TEST(UpdateTrigger, PeriodicScheduleFiresOncePerPeriodOfDataTime) {
+  PeriodicSchedule every5(5.0);
+  EXPECT_FALSE(every5.due(100.0)) << "the first poll starts the first period";
+  EXPECT_FALSE(every5.due(104.99));
+  EXPECT_TRUE(every5.due(105.0));
+  EXPECT_FALSE(every5.due(105.05)) << "once per period, however often it is polled";
+  EXPECT_TRUE(every5.due(110.02)) << "the next deadline keeps the phase: 110";
+  EXPECT_FALSE(every5.due(114.9));
+  EXPECT_TRUE(every5.due(131.0)) << "a poll long after the deadline (a stalled clock) fires once";
+  EXPECT_FALSE(every5.due(132.0)) << "no burst for the missed periods";
+  EXPECT_FALSE(every5.due(135.9));
+  EXPECT_TRUE(every5.due(136.0)) << "the period after a late fire starts at that fire";
+  EXPECT_FALSE(every5.due(20.0)) << "the clock went back (a bag restarted): start over";
+  EXPECT_FALSE(every5.due(24.0));
+  EXPECT_TRUE(every5.due(25.0));
+}
+
 // The mechanism end to end: the mobile's last KeyFrame (and the points it made) 5 cm off, as a
 // weak frame in a fast turn gives; the edge's local BA pulls it onto the map the earlier
 // KeyFrames' points hold, and that difference makes an update due at once.

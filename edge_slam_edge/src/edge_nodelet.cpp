@@ -21,6 +21,7 @@
 // that break the record rules) are rejected, counted per topic and reason (~status
 // malformed_keyframes / malformed_frames, ~stats keyframes_malformed / frames_malformed, per
 // kind in metrics.json) and logged once per kind of problem, then throttled; nothing crashes.
+#include <edge_slam/module/update_trigger.h>
 #include <edge_slam/split/edge_system.h>
 #include <edge_slam/util/robot_ids.h>
 #include <edge_slam_bridge/ack_conversion.h>
@@ -112,7 +113,13 @@ class EdgeNodelet : public nodelet::Nodelet {
           "edge_status", [this, r](auto&, auto& res) { return fill(res, *system_, r), true; });
     }
     const double update_period = settings.session.update_period;
-    update_timer_ = nh.createTimer(ros::Duration(update_period), [this](const ros::TimerEvent&) {
+    // The period runs on the data clock (the bag's /clock when replaying), polled at 20 Hz from a
+    // wall timer: a ros::Timer on sim time makes roscpp's timer thread wake every millisecond,
+    // which preempted the mobile's tracking when both run on one PC (module/update_trigger.h).
+    update_schedule_ = std::make_unique<edge_slam::PeriodicSchedule>(update_period);
+    update_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
+      const ros::Time now = ros::Time::now();  // zero until the first /clock of a replay
+      if (now.isZero() || !update_schedule_->due(now.toSec())) return;
       for (int r = 0; r < system_->robots(); ++r) send_update(r);
     });
     display_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_map(); });
@@ -268,8 +275,8 @@ class EdgeNodelet : public nodelet::Nodelet {
   tf2_ros::StaticTransformBroadcaster tf_static_;
   std::vector<std::optional<Eigen::Isometry3d>> world_frames_sent_;  // per robot, as last sent on /tf_static
   ros::ServiceServer status_srv_, save_srv_, load_srv_;
-  ros::Timer update_timer_;
-  ros::WallTimer display_timer_, stats_timer_, ack_timer_, progress_timer_, checkpoint_timer_;
+  std::unique_ptr<edge_slam::PeriodicSchedule> update_schedule_;  // touched by update_timer_'s callback only
+  ros::WallTimer update_timer_, display_timer_, stats_timer_, ack_timer_, progress_timer_, checkpoint_timer_;
 };
 
 }  // namespace edge_slam_edge

@@ -129,6 +129,14 @@ def tracking_series(run_dir):
     return (t, ms) if len(t) and len(t) == len(ms) else (None, None)
 
 
+def tracking_cpu_ms(run_dir):
+    """CPU time of the mobile's tracking thread per frame in a split run (the cpu_ms column; None
+    for a run written before it): the wall time minus waiting for a core."""
+    frames = [r for r in _rows(run_dir, "mobile") if r.get("event") == "frame"]
+    ms = _values(frames, "cpu_ms", True)
+    return ms if len(ms) and len(ms) == len(frames) else None
+
+
 def frame_times(run_dir):
     """Per-frame tracking latency (stamps, ms): frame_times.csv of the monolithic runner, or the
     mobile's "frame" events in a split run's mobile_stats.csv."""

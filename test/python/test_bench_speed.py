@@ -68,9 +68,9 @@ class SpeedSectionTest(unittest.TestCase):
         os.makedirs(split)
         with open(os.path.join(split, 'mobile_stats.csv'), 'w', newline='') as f:
             w = csv.writer(f)
-            w.writerow(['event', 'data_time', 'duration_ms'])
+            w.writerow(['event', 'data_time', 'duration_ms', 'cpu_ms'])
             for i, ms in enumerate(split_ms):
-                w.writerow(['frame', 100 + i / 30, ms])
+                w.writerow(['frame', 100 + i / 30, ms, ms / 2])
         return {"speed": [{"dataset": os.path.join(d, name), "dir": sd, "tracking_runs": len(tracking_medians)}]}
 
     def verdicts(self, rep):
@@ -95,6 +95,7 @@ class SpeedSectionTest(unittest.TestCase):
             self.assertAlmostEqual(fig['tracking_cpu_ms']['median'], 11.0)
             self.assertAlmostEqual(fig['tracking_cpu_ms']['worst_p95'], 21.0)
             self.assertGreater(fig['split_tracking_p99_ms'], 30.0)
+            self.assertAlmostEqual(fig['split_tracking_cpu_p99_ms'], fig['split_tracking_p99_ms'] / 2)
             self.assertTrue(any('Speed' in line for line in sec.md))
 
     def test_everything_passes_when_fast(self):
