@@ -164,7 +164,7 @@ if [[ $PAUSED == true ]]; then
   PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m bench.ros_util release-players \
     --robots "${ROBOT_NAMES[@]}" --timeout 180 || die "the players could not be started: see $OUT/launch.log"
 fi
-while [[ $(players_running) != 0 ]]; do
+while [[ $(launch_children_named "$launch_pid" player) != 0 ]]; do
   kill -0 $launch_pid 2>/dev/null || die "the launch ended early: see $OUT/launch.log"
   [[ -z "$(player_failed)" ]] || die "a player failed: $(player_failed) (see $OUT/launch.log)"
   sleep 2

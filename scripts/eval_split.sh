@@ -58,7 +58,7 @@ roslaunch launch/edge_slam.launch "${SOURCE[@]}" image_queue_size:="${SPLIT_IMAG
 launch_pid=$!
 
 # The bag is over when rosbag play has exited; then the edge finishes what it was given.
-player_running() { local nodes; nodes=$(rosnode list 2>/dev/null || true); grep -qx /player <<< "$nodes"; }
+player_running() { [[ $(launch_children_named "$launch_pid" player) -gt 0 ]]; }
 for _ in $(seq 120); do player_running && break; sleep 0.5; done
 player_running || die "the player (rosbag play / tum_player) did not start: see $OUT/launch.log"
 while player_running; do
