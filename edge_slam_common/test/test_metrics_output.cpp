@@ -62,6 +62,8 @@ TEST(EventLog, RowsReachTheFileOnlyOnFlushAndCommasInDetailsAreReplaced) {
     r.seq = 7;
     r.bytes = 1234;
     r.duration_ms = 12.5;
+    r.cpu_ms = 9.25;
+    r.inliers = 212;
     r.detail = "accepted, rebuilt";
     log.add(r);
     EXPECT_EQ(file_text(path), std::string(EventLog::header()) + "\n");
@@ -75,6 +77,8 @@ TEST(EventLog, RowsReachTheFileOnlyOnFlushAndCommasInDetailsAreReplaced) {
     EXPECT_EQ(row.at("bytes"), "1234");
     EXPECT_DOUBLE_EQ(std::stod(row.at("latency_ms")), -1.0) << "not applicable";
     EXPECT_DOUBLE_EQ(std::stod(row.at("duration_ms")), 12.5);
+    EXPECT_DOUBLE_EQ(std::stod(row.at("cpu_ms")), 9.25);
+    EXPECT_EQ(row.at("inliers"), "212");
     EXPECT_EQ(row.at("map_keyframes"), "-1");
     EXPECT_EQ(row.at("detail"), "accepted; rebuilt") << "a comma in the detail would add a column";
   }

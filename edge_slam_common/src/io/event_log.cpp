@@ -12,7 +12,7 @@ void no_commas(std::string& s) { std::replace(s.begin(), s.end(), ',', ';'); }  
 }  // namespace
 
 const char* EventLog::header() {
-  return "wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,cpu_ms,map_keyframes,frame_stamp,state,kind,decision,"
+  return "wall_time,data_time,event,seq,bytes,latency_ms,duration_ms,cpu_ms,inliers,map_keyframes,frame_stamp,state,kind,decision,"
          "deferred,keyframes,points,detail";
 }
 
@@ -47,7 +47,7 @@ void EventLog::flush() {
   for (const EventRow& r : rows)
     file_ << std::setprecision(6) << r.wall_time << ',' << r.data_time << ',' << r.event << ',' << r.seq << ','
           << r.bytes << ',' << std::setprecision(3) << r.latency_ms << ',' << r.duration_ms << ',' << r.cpu_ms << ','
-          << r.map_keyframes
+          << r.inliers << ',' << r.map_keyframes
           << ',' << std::setprecision(6) << r.frame_stamp << ',' << r.state << ',' << r.kind << ',' << r.decision << ','
           << r.deferred << ',' << r.keyframes << ',' << r.points << ',' << r.detail << '\n';
   file_.flush();

@@ -58,6 +58,7 @@ TrackingResult MobileSystem::track(const cv::Mat& rgb, const cv::Mat& depth, dou
   e.seq = r.frame_id;
   e.duration_ms = r.time_ms;
   e.cpu_ms = r.cpu_ms;
+  e.inliers = r.inliers;
   e.state = to_string(r.state);
   recorder_.event(std::move(e));
   if (auto deferred = s->take_deferred_outcome())

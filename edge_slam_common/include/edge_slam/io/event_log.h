@@ -13,6 +13,8 @@
 //   duration_ms   processing: tracking, Local-Map rebuild (an installed update), update construction
 //   cpu_ms        frame rows: CPU time of the tracking thread for the same work (duration_ms is wall
 //                 time and includes waiting for a core, which the edge shares when both run on one PC)
+//   inliers       frame rows: the tracked pose's inlier matches (0 when not tracked): with the
+//                 keyframe_sent rows' frame_stamp, which weak frame became a KeyFrame
 //   map_keyframes KeyFrames in the node's map after the event
 //   frame_stamp   data stamp of the last frame the mobile tracked when the event happened: an
 //                 installed update lies between this frame and the next (where the online
@@ -45,6 +47,7 @@ struct EventRow {
   double latency_ms = -1;
   double duration_ms = -1;
   double cpu_ms = -1;
+  long inliers = -1;
   long map_keyframes = -1;
   double frame_stamp = -1;
   std::string state, kind, decision;
