@@ -9,12 +9,13 @@ mkdir -p "$STAMPS"
 say() { printf '\033[1m[edge_slam]\033[0m %s\n' "$*" >&2; }
 die() { printf '[edge_slam] ERROR: %s\n' "$*" >&2; exit 1; }
 
-# Hash of the given files' contents (a stamp: redo a step only when its inputs changed).
 # How many node processes named NAME (any namespace) the roslaunch with pid LAUNCH_PID runs
 # (roslaunch starts each node as its child). Polled while a bag plays: `rosnode list` is a
 # Python process and an XML-RPC round trip each time, and on the 2-core machine those polls
 # took a core from the tracking being measured (perf sched, 2026-12-05); pgrep costs nothing.
 launch_children_named() { pgrep -c -P "$1" -f "__name:=$2( |\$)" 2>/dev/null || true; }
+
+# Hash of the given files' contents (a stamp: redo a step only when its inputs changed).
 inputs_hash() { cat "$@" 2>/dev/null | sha256sum | cut -c1-16; }
 
 ros_env() {

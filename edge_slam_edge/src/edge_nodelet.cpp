@@ -115,7 +115,7 @@ class EdgeNodelet : public nodelet::Nodelet {
     const double update_period = settings.session.update_period;
     // The period runs on the data clock (the bag's /clock when replaying), polled at 20 Hz from a
     // wall timer: a ros::Timer on sim time makes roscpp's timer thread wake every millisecond,
-    // which preempted the mobile's tracking when both run on one PC (module/update_trigger.h).
+    // which took cores from the mobile's tracking when both run on one PC (module/update_trigger.h).
     update_schedule_ = std::make_unique<edge_slam::PeriodicSchedule>(update_period);
     update_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
       const ros::Time now = ros::Time::now();  // zero until the first /clock of a replay

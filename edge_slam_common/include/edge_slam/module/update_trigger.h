@@ -25,16 +25,15 @@ struct UpdateTriggerParams {
   double min_gap_s = 1.0;
 };
 
-// `divergence_m`: the largest such distance now; `last_update`: when the robot's last update
-// (periodic or relocalization) was built, on the same clock as `now` (nullopt: none yet).
 // The paper's periodic update (4.6: every 5 s of data time, so a bag played at half rate gets
 // the same updates per second of data). The nodelet polls it on a wall timer with the data clock
 // (ros::Time::now(), the bag's /clock) instead of using a ros::Timer: roscpp's sim-time timer
-// thread wakes every millisecond, and on a 2-core PC those wake-ups kept preempting the mobile's
-// tracking thread (fr1: ~2.5 s of waiting over the sequence, tracking wall p99 35 ms against
-// CPU p99 21 ms). Due once per period: the first call starts the period; a late poll fires once
-// and the next period starts from the poll, not from the missed deadlines (no burst); a clock
-// that goes back by more than a period (a bag restarted) starts over.
+// thread wakes every millisecond, and on a 2-core PC about half of the ~11,900 preemptions of the
+// mobile's tracking thread in one fr1 run were by it (perf sched; the tracking wall p99 moved
+// within its noise, README "The split mobile's tracking latency"). Due once per period: the
+// first call starts the period; a late poll fires once and the next period starts from the poll,
+// not from the missed deadlines (no burst); a clock that goes back by more than a period (a bag
+// restarted) starts over.
 class PeriodicSchedule {
  public:
   explicit PeriodicSchedule(double period_s) : period_(period_s) {}
@@ -53,6 +52,8 @@ class PeriodicSchedule {
   std::optional<double> next_;
 };
 
+// `divergence_m`: the largest such distance now; `last_update`: when the robot's last update
+// (periodic or relocalization) was built, on the same clock as `now` (nullopt: none yet).
 inline bool divergence_update_due(const UpdateTriggerParams& p, double divergence_m, double now,
                                   std::optional<double> last_update) {
   if (p.divergence_m <= 0.0 || !(divergence_m > p.divergence_m)) return false;
