@@ -122,9 +122,14 @@ def applied_update_stamps(csv_path):
     return stamps
 
 
+def _frame_rows(run_dir):
+    """The mobile's "frame" rows of a split run's mobile_stats.csv."""
+    return [r for r in _rows(run_dir, "mobile") if r.get("event") == "frame"]
+
+
 def tracking_series(run_dir):
     """(data stamps, tracking ms) of every frame the mobile tracked in a split run."""
-    frames = [r for r in _rows(run_dir, "mobile") if r.get("event") == "frame"]
+    frames = _frame_rows(run_dir)
     t, ms = _values(frames, "data_time", True), _values(frames, "duration_ms", True)
     return (t, ms) if len(t) and len(t) == len(ms) else (None, None)
 
@@ -132,7 +137,7 @@ def tracking_series(run_dir):
 def tracking_cpu_ms(run_dir):
     """CPU time of the mobile's tracking thread per frame in a split run (the cpu_ms column; None
     for a run written before it): the wall time minus waiting for a core."""
-    frames = [r for r in _rows(run_dir, "mobile") if r.get("event") == "frame"]
+    frames = _frame_rows(run_dir)
     ms = _values(frames, "cpu_ms", True)
     return ms if len(ms) and len(ms) == len(frames) else None
 
