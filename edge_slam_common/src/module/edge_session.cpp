@@ -345,7 +345,7 @@ double EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot) co
   for (const auto& [id, view] : rs.mobile_views) {
     const auto kf = map_->keyframe(id);
     if (!kf || kf->is_bad()) continue;
-    if (const auto d = local_ba_distance_from_mobile_view(view, T_group_robot, rs.next_update_seq, map_moves_, kf->T_wc()))
+    if (const auto d = distance_from_mobile_view(view, T_group_robot, rs.next_update_seq, kf->T_wc()))
       largest = std::max(largest, *d);
   }
   return largest;

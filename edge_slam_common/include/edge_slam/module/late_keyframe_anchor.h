@@ -44,20 +44,6 @@ inline std::optional<double> distance_from_mobile_view(const MobileKeyFrameView&
   return (T_wc_now.translation() - T_cw_mobile->inverse().translation()).norm();
 }
 
-// The same distance when only local BA can have caused it: nullopt also when a correction (a
-// loop, a merge, a full BA: map_moves counts them) has moved the map since the mobile sent the
-// KeyFrame. A correction moves a whole stretch of the map at once and the periodic update
-// carries it; what the early update is for is a KeyFrame local BA found far off (a weak frame
-// in a fast turn) while the mobile keeps tracking on its own copy. Measured on the synthetic
-// split, the absolute distance mostly fired on the loop correction at 28-29 s.
-inline std::optional<double> local_ba_distance_from_mobile_view(const MobileKeyFrameView& view,
-                                                                const Eigen::Isometry3d& T_group_robot,
-                                                                uint64_t update_seq_now, uint64_t map_moves_now,
-                                                                const Eigen::Isometry3d& T_wc_now) {
-  if (view.map_moves != map_moves_now) return std::nullopt;
-  return distance_from_mobile_view(view, T_group_robot, update_seq_now, T_wc_now);
-}
-
 // The world -> world motion M (X' = M X; a pose T_cw becomes T_cw M^-1) that carries a new
 // KeyFrame and its new points from the mobile's uncorrected view onto its parent's corrected
 // pose, or nullopt when nothing is to be done or the mobile's view is not known.
