@@ -61,6 +61,36 @@ TEST(MobileSession, SendsKeyFramesAppliesAnUpdateAndKeepsTracking) {
   EXPECT_EQ(session.update_stats().heap_releases, session.update_stats().installed);
 }
 
+// The edge fused every point into a survivor with a new id (as its local mapping does with the
+// duplicates RGB-D KeyFrames create): the update carries only the survivors. The last frame
+// follows its points to them through the KeyFrames that saw them (module/point_replacements.h)
+// instead of losing them all, and tracking goes on.
+TEST(MobileSession, TheLastFrameFollowsItsPointsToThoseTheEdgeFusedThemInto) {
+  const RenderedSequence& seq = sequence();
+  MobileSession session = make_session(paper_pacing(MobileSessionParams{}));
+  const int first_half = kFrames - 10;
+  for (int i = 0; i < first_half; ++i)
+    ASSERT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+  std::vector<KeyFrameRecord> sent;
+  while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
+  MapUpdateRecord update = update_from(sent, seq.camera);
+  auto fused = [](uint32_t id) { return id == kNoId ? id : (id | kEdgePointIdFirst); };
+  for (MapPointRecord& p : update.points) p.id = fused(p.id);
+  for (KeyFrameRecord& k : update.keyframes) {
+    for (auto& [index, point_id] : k.observations) point_id = fused(point_id);
+    for (NewPointRecord& p : k.new_points) p.id = fused(p.id);
+  }
+  ASSERT_EQ(session.apply_update(update, (first_half - 1) / 15.0 + 1.0).decision, UpdateDecision::kAccept);
+  const MobileUpdateStats st = session.update_stats();
+  ASSERT_EQ(st.installed, 1u);
+  ASSERT_GT(st.tracked_points_before, 50u);
+  EXPECT_EQ(st.tracked_points_kept, 0u) << "no point keeps its id";
+  EXPECT_GE(st.tracked_points_followed, st.tracked_points_before * 9 / 10)
+      << "each tracked point was seen in a KeyFrame the update holds";
+  for (int i = first_half; i < kFrames; ++i)
+    EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
+}
+
 TEST(MobileSession, GivesNoHeapBackWhenReleaseAfterUpdateIsOff) {
   const RenderedSequence& seq = sequence();
   MobileSessionParams params;

@@ -1,5 +1,7 @@
 #include "edge_slam/module/mobile_session.h"
 
+#include "edge_slam/module/point_replacements.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -15,6 +17,7 @@
 #include "edge_slam/module/local_map_cap.h"
 #include "edge_slam/module/local_mapping_params.h"
 #include "edge_slam/module/map_point_culling.h"
+#include "edge_slam/module/point_replacements.h"
 #include "edge_slam/module/update_carry_over.h"
 #include "edge_slam/module/update_merge.h"
 #include "edge_slam/util/wall_clock.h"
@@ -243,11 +246,17 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   const Eigen::Isometry3d T_wc_reference_before =
       reference_before ? reference_before->T_wc() : Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3d> tracked_before;
+  std::vector<PointSightings> sightings;  // to follow the points the edge fused (point_replacements.h)
   for (const auto& mp : tracking_.last_frame().map_points)
     if (mp) {
       tracked_ids.push_back(mp->id());
       tracked_before.push_back(mp->position());
+      PointSightings s{mp->id(), {}};
+      for (const auto& [kf_id, index] : mp->observations()) s.observed_at.emplace_back(kf_id, index);
+      sightings.push_back(std::move(s));
     }
+  std::unordered_map<uint32_t, uint32_t> replaced_by;
+  int followed = 0;
   for (const auto& kf : map_->keyframes())
     if (created_set_.count(kf->id())) mobile_kfs_before.push_back(kf->id());
   if (params_.update_install == MobileSessionParams::UpdateInstall::kMerge) {
@@ -262,8 +271,9 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
       const MergeResult merged = merge_update(*map_, *pending.staged.map, database_.get());
       update_stats_.keyframes_carried += merged.keyframes_kept;
       dropped_by_cap_ += enforce_local_map_cap(*map_, database_.get(), params_.local_map_cap, keep).size();
+      replaced_by = find_point_replacements(*map_, sightings);
     }
-    tracking_.relink_after_map_update(map_.get());
+    followed = tracking_.relink_after_map_update(map_.get(), &replaced_by);
   } else {
     install_update(*map_, pending.staged);  // pending.staged now holds the old Local-Map
     const Map& old_map = *pending.staged.map;
@@ -277,7 +287,11 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
     database_->clear();
     for (const auto& kf : map_->keyframes())
       if (kf->has_bow()) database_->add(kf);
-    tracking_.relink_after_map_update(&old_map);
+    {
+      std::lock_guard<std::mutex> lock(map_->update_mutex());
+      replaced_by = find_point_replacements(*map_, sightings);
+    }
+    followed = tracking_.relink_after_map_update(&old_map, &replaced_by);
   }
   keyframe_since_update_ = false;
   frames_since_update_ = 0;
@@ -309,10 +323,11 @@ void MobileSession::install(PendingUpdate& pending, UpdateOutcome& out) {
   }
   log_info(log_text("update ", pending.seq, " installed: reference KeyFrame ", reference_id, " turned ", rotation_deg,
       " deg; the last frame's points: ", kept, " of ", tracked_ids.size(), " kept, moved ", median_shift * 100,
-      " cm (median)"));
+      " cm (median), ", followed, " followed to the point the edge fused them into"));
   ++update_stats_.installed;
   update_stats_.tracked_points_before += tracked_ids.size();
   update_stats_.tracked_points_kept += kept;
+  update_stats_.tracked_points_followed += static_cast<uint64_t>(followed);
   if (!tracked_ids.empty())
     update_stats_.min_kept_share = std::min(update_stats_.min_kept_share, double(kept) / tracked_ids.size());
   for (uint32_t id : mobile_kfs_before) update_stats_.mobile_keyframes_dropped += map_->keyframe(id) ? 0 : 1;

@@ -84,12 +84,21 @@ void Tracking::reset() {
   relocalized_before_ = false;
 }
 
-void Tracking::relink_after_map_update(const Map* old_map) {
+int Tracking::relink_after_map_update(const Map* old_map, const std::unordered_map<uint32_t, uint32_t>* replaced_by) {
   std::lock_guard<std::mutex> lock(map_->update_mutex());
   const std::shared_ptr<KeyFrame> old_reference = last_frame_.reference_kf;
+  int followed = 0;
   for (size_t i = 0; i < last_frame_.map_points.size(); ++i) {
     auto& mp = last_frame_.map_points[i];
-    if (mp) mp = map_->map_point(mp->id());
+    if (!mp) continue;
+    std::shared_ptr<MapPoint> now = map_->map_point(mp->id());
+    if (!now && replaced_by) {
+      if (const auto it = replaced_by->find(mp->id()); it != replaced_by->end()) {
+        now = map_->map_point(it->second);
+        followed += now ? 1 : 0;
+      }
+    }
+    mp = std::move(now);
   }
   auto relink_kf = [&](std::shared_ptr<KeyFrame>& kf) {
     if (kf) kf = map_->keyframe(kf->id());
@@ -100,8 +109,8 @@ void Tracking::relink_after_map_update(const Map* old_map) {
     const auto kfs = map_->keyframes();
     if (!kfs.empty()) reference_kf_ = kfs.back();
   }
-  if (!last_frame_tracked_) return;
-  if (last_frame_.reference_kf && old_map) return;  // predict_last_frame_pose moves it with its reference
+  if (!last_frame_tracked_) return followed;
+  if (last_frame_.reference_kf && old_map) return followed;  // predict_last_frame_pose moves it with its reference
   // The reference is gone (or the old poses are unknown): correct the last frame by the change
   // at a KeyFrame both maps hold, then anchor it on the new reference.
   if (old_map && old_reference) {
@@ -116,6 +125,7 @@ void Tracking::relink_after_map_update(const Map* old_map) {
   }
   if (!last_frame_.reference_kf) last_frame_.reference_kf = reference_kf_;
   if (last_frame_.reference_kf) last_relative_to_ref_ = last_frame_.T_cw() * last_frame_.reference_kf->T_wc();
+  return followed;
 }
 
 TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, double stamp) {

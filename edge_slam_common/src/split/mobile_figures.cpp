@@ -106,6 +106,7 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
   update_stats.integer("installed", static_cast<long long>(us.installed))
       .integer("tracked_points_before", static_cast<long long>(us.tracked_points_before))
       .integer("tracked_points_kept", static_cast<long long>(us.tracked_points_kept))
+      .integer("tracked_points_followed", static_cast<long long>(us.tracked_points_followed))
       .number("min_kept_share", us.min_kept_share)
       .integer("mobile_keyframes_dropped", static_cast<long long>(us.mobile_keyframes_dropped))
       .integer("keyframes_carried", static_cast<long long>(us.keyframes_carried))

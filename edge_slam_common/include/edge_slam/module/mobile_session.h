@@ -87,6 +87,8 @@ struct MobileUpdateStats {
   // Of the map points the last frame tracked before each install, how many the new Local-Map
   // still holds (by id): what tracking keeps across the swap.
   uint64_t tracked_points_before = 0, tracked_points_kept = 0;
+  // Of the others, how many were followed to the point the edge fused them into (point_replacements.h).
+  uint64_t tracked_points_followed = 0;
   double min_kept_share = 1.0;
   uint64_t mobile_keyframes_dropped = 0;  // mobile-made KeyFrames the swap removed from the Local-Map
   uint64_t keyframes_carried = 0;         // Local-Map KeyFrames the update did not hold, kept (merge / keep_newer)

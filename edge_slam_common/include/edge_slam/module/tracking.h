@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "edge_slam/camera/camera_loader.h"
@@ -135,8 +136,11 @@ class Tracking {
   // as it was before (`old_map`), the last frame also moves with the correction the update
   // applied to its reference KeyFrame (ORB-SLAM2's UpdateLastFrame), so the next prediction
   // and the rolling-shutter velocity do not take the map correction for camera motion.
+  // A point no longer there by its own id is followed to its replacement when `replaced_by`
+  // names one (module/point_replacements.h: the edge fused it into another); returns how many.
   // Takes the map's update mutex; call it after the rebuild released it.
-  void relink_after_map_update(const Map* old_map = nullptr);
+  int relink_after_map_update(const Map* old_map = nullptr,
+                              const std::unordered_map<uint32_t, uint32_t>* replaced_by = nullptr);
 
  private:
   bool initialize(Frame& frame, std::string& why);
