@@ -84,5 +84,49 @@ TEST(EdgeSystem, CountsRecordsAndPublishesWhatTheNodeletUsedToDoItself) {
   for (const std::string* p : {&s.files.events, &s.files.metrics, &s.files.keyframes}) std::remove(p->c_str());
 }
 
+// An update the divergence trigger sends early is the same periodic update on the wire, but the
+// event CSV says why it went out, so a run's log tells the early updates from the timer's.
+TEST(EdgeSystem, TheEventLogLabelsAnUpdateSentOnDivergence) {
+  const SentKeyFrames mobile;
+  const std::string dir = ::testing::TempDir() + "edge_system_divergence_" + std::to_string(::getpid()) + "_";
+  EdgeSystemSettings s;
+  s.camera = mobile.source.camera;
+  s.session = mobile.params();
+  s.session.late_keyframe_age = 0;
+  s.session.update_trigger.divergence_m = 0.02;
+  s.session.update_trigger.min_gap_s = 1.0;
+  s.vocabulary = mobile.vocabulary;
+  s.restore_on_start = false;
+  s.files = RunFiles{dir + "events.csv", dir + "metrics.json", "", "", dir + "keyframes.txt"};
+  double wall = 500.0;
+  {
+    EdgeSystem edge(s, [&wall] { return wall; }, [] { return uint64_t{77}; });
+    for (size_t i = 0; i + 1 < mobile.sent.size(); ++i) {
+      ASSERT_EQ(edge.receive_keyframe(mobile.sent[i], 45000), KeyFrameVerdict::kInserted);
+      ASSERT_TRUE(edge.session().wait_until_idle(60.0));
+    }
+    // The mobile's last KeyFrame 5 cm off, with the points it made: local BA pulls it back.
+    KeyFrameRecord weak = mobile.sent.back();
+    const Eigen::Vector3d shift(0.05, 0.0, 0.0);
+    weak.T_wc.translation() += shift;
+    for (NewPointRecord& p : weak.new_points) p.position += shift.cast<float>();
+    ASSERT_EQ(edge.receive_keyframe(weak, 45000), KeyFrameVerdict::kInserted);
+    ASSERT_TRUE(edge.session().wait_until_idle(60.0));
+    std::optional<MapUpdateRecord> early = edge.divergence_update();
+    ASSERT_TRUE(early.has_value()) << "local BA moved the mobile's KeyFrame more than 2 cm";
+    EXPECT_EQ(early->kind, MapUpdateKind::kPeriodic) << "on the wire, an update like the timer's";
+    edge.published(*early, 250000, 17.0);
+    wall = 510.0;
+    std::optional<MapUpdateRecord> timed = edge.periodic_update();
+    ASSERT_TRUE(timed.has_value());
+    edge.published(*timed, 250000, 22.0);
+    edge.write_outputs();
+  }
+  const std::string csv = file_text(s.files.events);
+  EXPECT_NE(csv.find(",,divergence,,0,"), std::string::npos) << "the early update, labelled";
+  EXPECT_NE(csv.find(",,periodic,,0,"), std::string::npos) << "the timer's update, labelled as before";
+  for (const std::string* p : {&s.files.events, &s.files.metrics, &s.files.keyframes}) std::remove(p->c_str());
+}
+
 }  // namespace
 }  // namespace edge_slam

@@ -8,7 +8,8 @@ read here by column name (-1 or empty = not applicable). Events used here:
           for an update deferred by eq. (1) a second row with the same seq when it is finally
           applied or refused (deferred 1, bytes 0); frame_stamp = the last frame tracked before it
   edge    keyframe (latency = mobile creation -> received, decision = verdict), frame,
-          update_sent (duration = construction, from build start to publish; kind, keyframes, points)
+          update_sent (duration = construction, from build start to publish; kind: periodic,
+          divergence (sent early, edge_slam/update_on_divergence) or relocalization; keyframes, points)
 """
 import os
 
@@ -50,7 +51,9 @@ def summarize(run_dir):
         decisions[key] = decisions.get(key, 0) + 1
     sent = ev(edge, "update_sent")
     # Intervals and construction are the periodic module's; relocalization answers come on demand.
-    sent_periodic = [r for r in sent if update_kind(r) == "periodic"]
+    # The edge labels the Local-Map updates its divergence trigger sent early "divergence"; they
+    # are the same kind of update as the timer's (and the mobile sees both as periodic).
+    sent_periodic = [r for r in sent if update_kind(r) in ("periodic", "divergence")]
     kf_edge = ev(edge, "keyframe")
     verdicts = {}
     for r in kf_edge:
@@ -72,6 +75,7 @@ def summarize(run_dir):
         "keyframes_received_by_edge": len(kf_edge),
         "edge_keyframe_verdicts": verdicts,
         "updates_sent": len(sent),
+        "updates_sent_on_divergence": len([r for r in sent if update_kind(r) == "divergence"]),
         "updates_received": len(arrived),
         "updates_accepted": len(accepted),
         "updates_deferred": len(updates) - len(arrived),

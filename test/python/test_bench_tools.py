@@ -155,8 +155,9 @@ class PipelineStatsTest(unittest.TestCase):
                      kind='', decision='inserted', deferred=0, detail=''),
                 dict(event='update_sent', wall_time=15.0, data_time=6.0, seq=1, bytes=400000, duration_ms=5.0,
                      state='', kind='periodic', decision='', deferred=0, keyframes=6, points=900, detail=''),
+                # sent early by the divergence trigger: a Local-Map update like the timer's
                 dict(event='update_sent', wall_time=20.0, data_time=11.0, seq=2, bytes=400000, duration_ms=7.0,
-                     state='', kind='periodic', decision='', deferred=0, keyframes=6, points=900, detail=''),
+                     state='', kind='divergence', decision='', deferred=0, keyframes=6, points=900, detail=''),
                 dict(event='update_sent', wall_time=25.0, data_time=16.0, seq=3, bytes=400000, duration_ms=9.0,
                      state='', kind='periodic', decision='', deferred=0, keyframes=6, points=900, detail=''),
                 dict(event='update_sent', wall_time=26.0, data_time=17.0, seq=4, bytes=900000, duration_ms=30.0,
@@ -167,6 +168,8 @@ class PipelineStatsTest(unittest.TestCase):
         self.assertEqual(s['keyframe_transmit_ms']['median'], 8.0)
         self.assertEqual(s['update_construction_ms']['median'], 7.0)
         self.assertEqual(s['relocalization_update_construction_ms']['median'], 30.0)
+        self.assertEqual((s['updates_sent'], s['updates_sent_on_divergence']), (4, 1))
+        self.assertEqual(s['update_bytes']['count'], 3)
         self.assertEqual(s['update_publish_interval_s']['median'], 5.0)
         self.assertEqual(s['update_acceptance_interval_s']['median'], 7.75)  # 10 s, then 5.5 s
         self.assertEqual(s['local_map_rebuild_ms']['median'], 14.0)

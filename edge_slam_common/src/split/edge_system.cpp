@@ -118,6 +118,7 @@ std::optional<MapUpdateRecord> EdgeSystem::divergence_update(int robot) {
   auto update = session_->build_update_on_divergence(clock_(), robot, &divergence);
   std::lock_guard<std::mutex> lock(figures_mutex_);
   divergence_cm_.push_back(divergence * 100.0);
+  if (update) divergence_pending_.emplace(robot, update->seq);
   return update;
 }
 
@@ -125,8 +126,10 @@ void EdgeSystem::stamp_for_publishing(MapUpdateRecord& update) const { update.pu
 
 void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double data_now, int robot) {
   const double build_ms = (clock_() - update.build_start) * 1e3;
+  bool on_divergence = false;
   {
     std::lock_guard<std::mutex> lock(figures_mutex_);
+    on_divergence = divergence_pending_.erase({robot, update.seq}) > 0;
     update_build_ms_.push_back(build_ms);
     if (robot >= 0 && robot < robots()) update_latency_by_robot_[robot].push_back(build_ms);
     update_bytes_ += bytes;
@@ -136,7 +139,7 @@ void EdgeSystem::published(const MapUpdateRecord& update, size_t bytes, double d
   e.seq = update.seq;
   e.bytes = bytes;
   e.duration_ms = build_ms;
-  e.kind = update.kind == MapUpdateKind::kRelocalization ? "relocalization" : "periodic";
+  e.kind = update.kind == MapUpdateKind::kRelocalization ? "relocalization" : (on_divergence ? "divergence" : "periodic");
   e.keyframes = static_cast<long>(update.keyframes.size());
   e.points = static_cast<long>(update.points.size());
   if (robots() > 1) e.detail = "robot " + std::to_string(robot);

@@ -20,7 +20,8 @@
 //                 installed update lies between this frame and the next (where the online
 //                 trajectory may jump)
 //   state         frame rows: the tracking state (OK, LOST, ...)
-//   kind          update / update_sent rows: periodic or relocalization
+//   kind          update / update_sent rows: periodic or relocalization; update_sent also
+//                 divergence (a Local-Map update the edge sent early, edge_slam/update_on_divergence)
 //   decision      update rows: the mobile's decision (accepted, controller, ..., deferred, error);
 //                 edge keyframe rows: the verdict; edge frame rows: answered, no candidates, refused;
 //                 malformed: the message did not decode

@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,9 @@ class EdgeSystem {
   void rebase_announcements();
   mutable std::mutex figures_mutex_;
   std::vector<double> keyframe_latency_ms_, update_build_ms_, divergence_cm_;
+  // (robot, seq) of updates divergence_update built and not yet published: the event CSV labels
+  // them "divergence" (the wire kind is periodic: the mobile installs both alike).
+  std::set<std::pair<int, uint64_t>> divergence_pending_;
   uint64_t keyframe_bytes_ = 0, update_bytes_ = 0, updates_sent_ = 0;
   std::vector<std::vector<double>> update_latency_by_robot_;  // build start -> published, ms
   std::vector<std::vector<double>> keyframe_latency_by_robot_;
