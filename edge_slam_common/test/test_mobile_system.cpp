@@ -77,6 +77,11 @@ TEST(MobileSystem, RecordsFramesAnchorsAndADeferredUpdateByColumn) {
   EXPECT_EQ(frames[0].at("state"), "OK");
   EXPECT_EQ(frames[5].at("frame_stamp"), frames[5].at("data_time"));
   EXPECT_EQ(frames[5].at("wall_time"), "1000.000000");
+  // How each frame was tracked, for explaining a bad one afterwards (the split has no frame_times.csv).
+  EXPECT_EQ(frames[0].at("detail").rfind("path=init ", 0), 0u) << frames[0].at("detail");
+  EXPECT_NE(frames[5].at("detail").find("path=motion"), std::string::npos) << frames[5].at("detail");
+  EXPECT_NE(frames[5].at("detail").find(" local_map_points="), std::string::npos);
+  EXPECT_NE(frames[5].at("detail").find(" prediction_error_cm="), std::string::npos);
   ASSERT_EQ(updates.size(), 2u) << "the arrival, then the outcome of the deferral";
   EXPECT_EQ(updates[0].at("kind"), "periodic");
   EXPECT_EQ(updates[0].at("decision"), "deferred");

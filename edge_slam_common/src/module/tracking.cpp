@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <unordered_set>
 
 #include "edge_slam/data/bow_vocabulary.h"
@@ -55,6 +57,18 @@ const char* to_string(TrackingState s) {
     case TrackingState::kLost: return "LOST";
   }
   return "?";
+}
+
+std::string describe(const TrackingDiagnostics& d) {
+  std::ostringstream out;
+  out << "path=" << d.path << " initial_matches=" << d.initial_matches << " initial_inliers=" << d.initial_inliers
+      << " local_map_points=" << d.local_map_points << " matches_before_final=" << d.matches_before_final
+      << " reference_kf=" << (d.reference_kf_id == kNoId ? -1 : static_cast<long>(d.reference_kf_id))
+      << " reference_points=" << d.reference_points << " keyframe_conditions=" << d.keyframe_conditions
+      << " weak_pose=" << d.weak_pose << std::fixed << std::setprecision(2);
+  if (d.has_prediction)
+    out << " prediction_error_cm=" << d.prediction_error_m * 100 << " prediction_error_deg=" << d.prediction_error_deg;
+  return out.str();
 }
 
 Tracking::Tracking(const PinholeCamera& camera, const OrbParams& orb, const TrackingParams& params,

@@ -55,6 +55,11 @@ struct TrackingDiagnostics {
   bool weak_pose = false;         // inliers < weak_pose_inlier_share x matches_before_final: no KeyFrame
 };
 
+// One line of key=value pairs (path, the match counts, the reference KeyFrame, the prediction
+// error, the KeyFrame conditions): the split mobile's per-frame event row carries it, as the
+// monolithic runner's frame_times.csv carries the same fields in columns.
+std::string describe(const TrackingDiagnostics& d);
+
 struct TrackingResult {
   TrackingState state = TrackingState::kNotInitialized;
   bool pose_valid = false;        // T_cw is a tracked pose of this frame
