@@ -286,6 +286,37 @@ TEST(Tracking, AWronglyPredictedFrameIsSearchedWidelyAndTrackedRight) {
   EXPECT_GE(tracking->counters().wide_motion_searches, 1);
 }
 
+// A frame whose pose leaves the constant-velocity prediction far while it tracks few close points
+// is weak too: it makes no KeyFrame (its points would be placed from a pose nothing confirms).
+// Here the departure is real (the camera jumps 5 cm) and "few" is made to hold for every frame,
+// so the test isolates the departure rule; a smooth frame under the same settings is not weak.
+TEST(Tracking, AFrameFarFromItsPredictionWithFewClosePointsMakesNoKeyFrame) {
+  const Renderer renderer;
+  TrackingParams params;
+  params.weak_pose_inlier_share = 0.0;
+  params.keyframe.close_points_tracked = 100000;  // "tracking is weak" at every frame
+  params.weak_pose_max_departure_m = 0.025;
+  Tracking gate(camera(), OrbParams(), params, std::make_shared<Map>(), std::make_shared<KeyFrameDatabase>(), nullptr);
+  params.weak_pose_max_departure_m = 0.0;  // off: ORB-SLAM2
+  Tracking no_gate(camera(), OrbParams(), params, std::make_shared<Map>(), std::make_shared<KeyFrameDatabase>(), nullptr);
+  for (int i = 0; i < 5; ++i) {
+    Eigen::Isometry3d T_wc = true_pose(i);
+    if (i == 4) T_wc.translation() += Eigen::Vector3d(0.05, 0.0, 0.0);  // off the constant velocity
+    cv::Mat color, depth;
+    renderer.render(T_wc, color, depth);
+    const TrackingResult a = gate.track_rgbd(color, depth, i / 30.0);
+    const TrackingResult b = no_gate.track_rgbd(color, depth, i / 30.0);
+    ASSERT_TRUE(a.pose_valid && b.pose_valid) << "frame " << i;
+    if (i >= 2 && i < 4) EXPECT_FALSE(a.diag.weak_pose) << "smooth frame " << i << ", " << a.diag.prediction_error_m;
+    if (i == 4) {
+      EXPECT_GT(a.diag.prediction_error_m, 0.04);
+      EXPECT_TRUE(a.diag.weak_pose);
+      EXPECT_FALSE(a.new_keyframe);
+      EXPECT_FALSE(b.diag.weak_pose) << "the rule off";
+    }
+  }
+}
+
 TEST(Tracking, AWeaklySupportedPoseMakesNoKeyFrame) {
   const Renderer renderer;
   auto map = std::make_shared<Map>();

@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
     frame_log << "stamp,state,pose_valid,keyframe,relocalized,keypoints,inliers,tracking_ms,tracking_cpu_ms,"
                  "path,initial_matches,initial_inliers,local_map_points,matches_before_final,reference_points,"
                  "tracked_close,untracked_close,keyframe_conditions,prediction_error_cm,prediction_error_deg,"
-                 "mapping_queue,local_ba_aborted,weak_pose";
+                 "mapping_queue,local_ba_aborted,weak_pose,last_frame_points";
     for (int s = 0; s < kTrackingStages; ++s) frame_log << ',' << to_string(static_cast<TrackingStage>(s)) << "_cpu_ms";
     frame_log << '\n' << std::fixed;
     for (size_t i = 0; i < n; i += static_cast<size_t>(every)) {
@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
                 << r.diag.untracked_close << ',' << r.diag.keyframe_conditions << ',' << r.diag.prediction_error_m * 100
                 << ',' << r.diag.prediction_error_deg << ',' << (slam.local_mapping() ? slam.local_mapping()->queued() : 0)
                 << ',' << (slam.local_mapping() ? slam.local_mapping()->stats().local_ba_aborted : 0) << ','
-                << r.diag.weak_pose;
+                << r.diag.weak_pose << ',' << r.diag.last_frame_points;
       for (double ms : r.stages.cpu_ms) frame_log << ',' << ms;
       frame_log << '\n';
       if (processed % 100 == 0)

@@ -50,6 +50,8 @@ TrackingParams load_tracking_params(const ConfigMap& cfg) {
       cfg.get_int_or("tracking/reference_min_observations", p.reference_min_observations, 1, 1000);
   p.weak_pose_inlier_share =
       cfg.get_double_or("tracking/weak_pose_inlier_share", p.weak_pose_inlier_share, 0.0, 1.0);
+  p.weak_pose_max_departure_m =
+      cfg.get_double_or("tracking/weak_pose_max_departure", p.weak_pose_max_departure_m, 0.0, 10.0);
   p.max_local_keyframes = cfg.get_int_or("tracking/max_local_keyframes", p.max_local_keyframes, 1, 100000);
   return p;
 }

@@ -60,7 +60,7 @@ TrackingResult MobileSystem::track(const cv::Mat& rgb, const cv::Mat& depth, dou
   e.cpu_ms = r.cpu_ms;
   e.inliers = r.inliers;
   e.state = to_string(r.state);
-  e.detail = describe(r.diag);
+  e.detail = describe(r.diag) + (r.new_keyframe ? " keyframe=1" : " keyframe=0");
   recorder_.event(std::move(e));
   if (auto deferred = s->take_deferred_outcome())
     report_update(deferred->first, MapUpdateKind::kPeriodic, deferred->second, 0, -1, stamp, true);

@@ -41,6 +41,7 @@ const char* to_string(TrackingState s);
 // from the constant-velocity prediction, which KeyFrame conditions held).
 struct TrackingDiagnostics {
   const char* path = "";          // init | motion | motion_wide | reference | relocalization | lost
+  int last_frame_points = 0;      // motion model: the previous frame's points it can search for
   int initial_matches = 0;        // matches of the first search (motion model / BoW)
   int initial_inliers = 0;        // after the first pose optimisation
   int local_map_points = 0;       // local-map points projected into the frame
@@ -52,7 +53,7 @@ struct TrackingDiagnostics {
   bool has_prediction = false;    // a constant-velocity prediction existed
   double prediction_error_m = 0;  // final camera centre vs the predicted one
   double prediction_error_deg = 0;
-  bool weak_pose = false;         // inliers < weak_pose_inlier_share x matches_before_final: no KeyFrame
+  bool weak_pose = false;         // too little support (tracking_params.h, weak_pose_*): no KeyFrame
 };
 
 // One line of key=value pairs (path, the match counts, the reference KeyFrame, the prediction

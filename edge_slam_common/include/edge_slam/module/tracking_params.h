@@ -27,6 +27,13 @@ struct TrackingParams {
   // on is weakly supported (motion blur, a wrong prediction): it makes no KeyFrame, and the next
   // frame does not trust its velocity alone. 0 = off (ORB-SLAM2 has no such gate).
   double weak_pose_inlier_share = 0.2;
+  // Also weakly supported: a frame whose pose left the constant-velocity prediction by more than
+  // this (metres) while it tracks fewer close points than condition (5)'s close_points_tracked
+  // (ORB-SLAM2's "tracking is weak"). On the synthetic look-away turn such a frame (62-65 inliers,
+  // 3.5-4.8 cm from a prediction that was right) became a KeyFrame on the mobile, which has no
+  // local BA to pull it back, and the frames after it tracked on its points 4 cm off for seconds.
+  // 0 = off (ORB-SLAM2, the paper).
+  double weak_pose_max_departure_m = 0.0;  // off: 0.025 lost tracking in 2 of 4 synthetic split runs (config/slam.yaml)
 };
 
 OrbParams load_orb_params(const ConfigMap& cfg);          // "orb:" section, defaults if absent
