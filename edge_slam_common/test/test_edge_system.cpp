@@ -25,15 +25,21 @@ double figure(const Figures& f, const std::string& name) {
   return -1;
 }
 
-TEST(EdgeSystem, CountsRecordsAndPublishesWhatTheNodeletUsedToDoItself) {
-  const SentKeyFrames mobile;
-  const std::string dir = ::testing::TempDir() + "edge_system_" + std::to_string(::getpid()) + "_";
+// An edge on the mobile's records with its own files under `name` (a test's own folder prefix).
+EdgeSystemSettings settings_for(const SentKeyFrames& mobile, const std::string& name) {
+  const std::string dir = ::testing::TempDir() + name + "_" + std::to_string(::getpid()) + "_";
   EdgeSystemSettings s;
   s.camera = mobile.source.camera;
   s.session = mobile.params();
   s.vocabulary = mobile.vocabulary;
   s.restore_on_start = false;
   s.files = RunFiles{dir + "events.csv", dir + "metrics.json", "", "", dir + "keyframes.txt"};
+  return s;
+}
+
+TEST(EdgeSystem, CountsRecordsAndPublishesWhatTheNodeletUsedToDoItself) {
+  const SentKeyFrames mobile;
+  const EdgeSystemSettings s = settings_for(mobile, "edge_system");
   double wall = 500.0;
   {
     EdgeSystem edge(s, [&wall] { return wall; }, [] { return uint64_t{77}; });
@@ -88,16 +94,10 @@ TEST(EdgeSystem, CountsRecordsAndPublishesWhatTheNodeletUsedToDoItself) {
 // event CSV says why it went out, so a run's log tells the early updates from the timer's.
 TEST(EdgeSystem, TheEventLogLabelsAnUpdateSentOnDivergence) {
   const SentKeyFrames mobile;
-  const std::string dir = ::testing::TempDir() + "edge_system_divergence_" + std::to_string(::getpid()) + "_";
-  EdgeSystemSettings s;
-  s.camera = mobile.source.camera;
-  s.session = mobile.params();
+  EdgeSystemSettings s = settings_for(mobile, "edge_system_divergence");
   s.session.late_keyframe_age = 0;
   s.session.update_trigger.divergence_m = 0.02;
   s.session.update_trigger.min_gap_s = 1.0;
-  s.vocabulary = mobile.vocabulary;
-  s.restore_on_start = false;
-  s.files = RunFiles{dir + "events.csv", dir + "metrics.json", "", "", dir + "keyframes.txt"};
   double wall = 500.0;
   {
     EdgeSystem edge(s, [&wall] { return wall; }, [] { return uint64_t{77}; });

@@ -50,25 +50,25 @@ def summarize(run_dir):
         key = f"{update_kind(r)} {update_decision(r)}"
         decisions[key] = decisions.get(key, 0) + 1
     sent = ev(edge, "update_sent")
-    # Intervals and construction are the periodic module's; relocalization answers come on demand.
+    # Intervals and construction are the Local-Map updates'; relocalization answers come on demand.
     # The edge labels the Local-Map updates its divergence trigger sent early "divergence"; they
     # are the same kind of update as the timer's (and the mobile sees both as periodic).
-    sent_periodic = [r for r in sent if update_kind(r) in ("periodic", "divergence")]
+    sent_local_map = [r for r in sent if update_kind(r) in ("periodic", "divergence")]
     kf_edge = ev(edge, "keyframe")
     verdicts = {}
     for r in kf_edge:
         verdicts[r.get("decision") or "?"] = verdicts.get(r.get("decision") or "?", 0) + 1
     return {
         "keyframe_transmit_ms": stats(_values(kf_edge, "latency_ms")),
-        "update_construction_ms": stats(_values(sent_periodic, "duration_ms")),
-        "update_publish_interval_s": stats(np.diff(np.sort(_values(sent_periodic, "wall_time")))),
-        "relocalization_update_construction_ms": stats(_values([r for r in sent if r not in sent_periodic],
+        "update_construction_ms": stats(_values(sent_local_map, "duration_ms")),
+        "update_publish_interval_s": stats(np.diff(np.sort(_values(sent_local_map, "wall_time")))),
+        "relocalization_update_construction_ms": stats(_values([r for r in sent if r not in sent_local_map],
                                                                "duration_ms")),
         "update_delivery_ms": stats(_values(arrived, "latency_ms")),
         "update_acceptance_interval_s": stats(np.diff(np.sort(_values(periodic, "wall_time")))),
         "local_map_rebuild_ms": stats(_values(periodic, "duration_ms")),
-        "update_bytes": stats(_values(sent_periodic, "bytes")),
-        "relocalization_update_bytes": stats(_values([r for r in sent if r not in sent_periodic], "bytes")),
+        "update_bytes": stats(_values(sent_local_map, "bytes")),
+        "relocalization_update_bytes": stats(_values([r for r in sent if r not in sent_local_map], "bytes")),
         "keyframe_bytes": stats(_values(ev(mobile, "keyframe_sent"), "bytes")),
         "frame_bytes": stats(_values(ev(mobile, "frame_sent"), "bytes")),
         "keyframes_sent": len(ev(mobile, "keyframe_sent")),

@@ -1,7 +1,5 @@
 #include "edge_slam/module/mobile_session.h"
 
-#include "edge_slam/module/point_replacements.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

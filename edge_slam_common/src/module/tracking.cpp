@@ -61,7 +61,8 @@ const char* to_string(TrackingState s) {
 
 std::string describe(const TrackingDiagnostics& d) {
   std::ostringstream out;
-  out << "path=" << d.path << " last_frame_points=" << d.last_frame_points << " initial_matches=" << d.initial_matches << " initial_inliers=" << d.initial_inliers
+  out << "path=" << d.path << " last_frame_points=" << d.last_frame_points
+      << " initial_matches=" << d.initial_matches << " initial_inliers=" << d.initial_inliers
       << " local_map_points=" << d.local_map_points << " matches_before_final=" << d.matches_before_final
       << " reference_kf=" << (d.reference_kf_id == kNoId ? -1 : static_cast<long>(d.reference_kf_id))
       << " reference_points=" << d.reference_points << " keyframe_conditions=" << d.keyframe_conditions
@@ -249,15 +250,15 @@ TrackingResult Tracking::track_frame(Frame frame) {
       // its new points would be placed from a wrong pose and the frames after it would track on
       // them, locking the error into the map. The next well-tracked frame makes the KeyFrame.
       const bool keyframe_wanted = decide_keyframe(frame, inliers, diag);  // fills diag.tracked_close
-      diag.weak_pose = diag.matches_before_final > 0 &&
-                       inliers < params_.weak_pose_inlier_share * diag.matches_before_final;
+      const bool few_inliers = diag.matches_before_final > 0 &&
+                               inliers < params_.weak_pose_inlier_share * diag.matches_before_final;
       // Few close points and a pose far from where the motion model put it: the optimisation may
       // have settled on a wrong pose (too little support to tell), so this frame's points must
       // not be placed from it. When the motion was real, the next frame confirms it.
-      diag.weak_pose = diag.weak_pose ||
-                       (params_.weak_pose_max_departure_m > 0 && diag.has_prediction &&
-                        diag.prediction_error_m > params_.weak_pose_max_departure_m &&
-                        diag.tracked_close < params_.keyframe.close_points_tracked);
+      const bool far_and_thin = params_.weak_pose_max_departure_m > 0 && diag.has_prediction &&
+                                diag.prediction_error_m > params_.weak_pose_max_departure_m &&
+                                diag.tracked_close < params_.keyframe.close_points_tracked;
+      diag.weak_pose = few_inliers || far_and_thin;
       if (diag.weak_pose) ++counters_.weak_frames;
       if (keyframe_wanted && !diag.weak_pose) {
         create_keyframe(frame, false);
