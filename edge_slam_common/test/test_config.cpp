@@ -66,6 +66,18 @@ TEST(Config, OutOfRangeNamesKeyValueAndRange) {
   EXPECT_THROW(load_tracking_params(cfg), std::runtime_error);
 }
 
+TEST(Config, ChoiceTakesANamedValueTheDefaultOrNamesTheChoices) {
+  const ConfigMap cfg = ConfigMap::parse("tracking:\n  mode: fast\n  other: slowest\n", "s.yaml");
+  const auto choose = [&](const std::string& key) {
+    return cfg.get_choice<int>(key, "slow", {{"slow", 1}, {"fast", 2}});
+  };
+  EXPECT_EQ(choose("tracking/mode"), 2);
+  EXPECT_EQ(choose("tracking/absent"), 1);
+  const std::string e = error_of([&] { choose("tracking/other"); });
+  EXPECT_NE(e.find("s.yaml: key 'tracking/other' has value 'slowest', expected one of slow, fast"), std::string::npos)
+      << e;
+}
+
 TEST(Config, MalformedLinesReportFileAndLine) {
   std::string e = error_of([] { ConfigMap::parse("camera:\n  fx 500\n", "bad.yaml"); });
   EXPECT_NE(e.find("bad.yaml:2"), std::string::npos) << e;

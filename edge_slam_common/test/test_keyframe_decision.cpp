@@ -54,6 +54,12 @@ TEST(KeyFrameDecision, Condition3EnoughTrackedPoints) {
   EXPECT_FALSE(tracks_enough_points(p, in));
   in.tracked_points = 50;
   EXPECT_TRUE(tracks_enough_points(p, in));
+  // The last frame's depth points support the pose as well (tracking/last_frame_depth_points).
+  in.tracked_points = 20;
+  in.depth_point_inliers = 29;
+  EXPECT_FALSE(tracks_enough_points(p, in));
+  in.depth_point_inliers = 30;
+  EXPECT_TRUE(tracks_enough_points(p, in));
 }
 
 TEST(KeyFrameDecision, Condition4FewerThanReference) {

@@ -9,6 +9,7 @@
 #include "edge_slam/data/bow_vocabulary.h"
 #include "edge_slam/feature/orb_extractor.h"
 #include "edge_slam/feature/synthetic_texture.h"
+#include "edge_slam/module/last_frame_depth_points.h"
 #include "edge_slam/module/tracking.h"
 
 using namespace edge_slam;
@@ -344,4 +345,100 @@ TEST(Tracking, AWeaklySupportedPoseMakesNoKeyFrame) {
   EXPECT_EQ(weak_keyframes, 1);  // the initial one only
   EXPECT_GE(keyframes, 3);
   EXPECT_EQ(weak_gate.counters().weak_frames, 19);
+}
+
+// The last frame lends its depth to the next frame's motion-model search
+// (tracking/last_frame_depth_points, ORB-SLAM2's localization-mode "visual odometry" points).
+TEST(LastFrameDepthPoints, CoverTheKeypointsWithoutAMapPointAndLeaveNoTrace) {
+  const Renderer renderer;
+  cv::Mat color, depth;
+  renderer.render(true_pose(0), color, depth);
+  OrbExtractor extractor{OrbParams()};
+  Frame frame = Frame::from_rgbd(0, 0.0, color, depth, camera(), extractor, RgbEncoding::kBgr);
+  frame.set_pose(Eigen::Isometry3d::Identity());
+  frame.map_points.assign(frame.size(), nullptr);
+  frame.outliers.assign(frame.size(), false);
+  const auto real = std::make_shared<MapPoint>(7, frame.unproject_world(0), 0);
+  real->add_observation(0, 0);
+  frame.map_points[0] = real;
+  int with_depth = 0;
+  for (size_t i = 0; i < frame.size(); ++i) with_depth += frame.feat().has_depth(i) ? 1 : 0;
+  ASSERT_TRUE(frame.feat().has_depth(0));
+  ASSERT_GT(with_depth, 300);
+  // Every keypoint of the rendered room is closer than 10 m: all get a point but the tracked one.
+  EXPECT_EQ(add_depth_points(frame, 10.f, 100), with_depth - 1);
+  EXPECT_EQ(frame.map_points[0], real);
+  for (size_t i = 1; i < frame.size(); ++i) {
+    if (!frame.feat().has_depth(i)) continue;
+    ASSERT_TRUE(frame.map_points[i]) << i;
+    EXPECT_TRUE(is_depth_point(*frame.map_points[i]));
+    EXPECT_EQ(frame.map_points[i]->num_observations(), 0);
+    EXPECT_LT((frame.map_points[i]->position() - frame.unproject_world(i)).norm(), 1e-9);
+  }
+  frame.outliers[1] = frame.feat().has_depth(1);
+  EXPECT_EQ(drop_depth_points(frame), with_depth - 1 - (frame.feat().has_depth(1) ? 1 : 0));
+  EXPECT_EQ(frame.num_matched(), 1);
+  // Nearer than 0 m none is close: only the nearest `min_points`.
+  frame.map_points[0] = nullptr;
+  EXPECT_EQ(add_depth_points(frame, 0.f, 100), 100);
+}
+
+// A last frame that sees too few map points for the motion model (the map does not cover the
+// view: here all but 40 of them are culled) still gives the next frame its pose through its
+// depth, and that frame, tracked right, becomes a KeyFrame whose points are all map points.
+// Without the depth points the same frame is lost.
+TEST(LastFrameDepthPoints, CarryTrackingWhereTheMapThinsOut) {
+  const Renderer renderer;
+  TrackingParams params;
+  constexpr size_t kLeft = 40;  // map points left; the last frame tracked fewer than 10 of them
+  params.min_inliers = 10;      // tracking stands on the map points left
+  params.keyframe.ref_ratio = 0.0;  // KeyFrames by condition (5) only: none while the map covers the view
+  params.last_frame_depth_points = TrackingParams::LastFrameDepthPoints::kOn;
+  auto map_on = std::make_shared<Map>(), map_off = std::make_shared<Map>();
+  Tracking on(camera(), OrbParams(), params, map_on, std::make_shared<KeyFrameDatabase>(), nullptr);
+  params.last_frame_depth_points = TrackingParams::LastFrameDepthPoints::kOff;
+  Tracking off(camera(), OrbParams(), params, map_off, std::make_shared<KeyFrameDatabase>(), nullptr);
+  for (int i = 0; i < 4; ++i) {
+    if (i == 3) {
+      for (const auto& map : {map_on, map_off}) {
+        const auto points = map->map_points();
+        ASSERT_GT(points.size(), 100u);
+        for (size_t k = kLeft; k < points.size(); ++k) points[k]->set_bad();
+      }
+    }
+    cv::Mat color, depth;
+    renderer.render(true_pose(i), color, depth);
+    const TrackingResult a = on.track_rgbd(color, depth, i / 30.0);
+    const TrackingResult b = off.track_rgbd(color, depth, i / 30.0);
+    if (i < 3) {
+      ASSERT_TRUE(a.pose_valid && b.pose_valid) << "frame " << i;
+      EXPECT_EQ(b.diag.last_frame_depth_points, 0) << "off";
+      continue;
+    }
+    EXPECT_FALSE(b.pose_valid) << "without depth points: " << b.diag.initial_matches << " motion matches";
+    ASSERT_TRUE(a.pose_valid) << a.message << "\n" << describe(a.diag);
+    EXPECT_STREQ(a.diag.path, "motion");
+    EXPECT_GT(a.diag.last_frame_depth_points, 300);
+    EXPECT_GT(a.diag.depth_point_inliers, 200);
+    EXPECT_LE(a.inliers, int(kLeft)) << "inliers count map points only";
+    EXPECT_LT((a.T_cw.inverse().translation() - true_pose(i).translation()).norm(), 0.01);
+    EXPECT_TRUE(a.new_keyframe);
+  }
+  for (const auto& mp : map_on->map_points()) EXPECT_FALSE(is_depth_point(*mp));
+  for (const auto& kf : map_on->keyframes())
+    for (uint32_t id : kf->map_point_ids())
+      if (id != kNoId) EXPECT_TRUE(map_on->map_point(id)) << "KeyFrame " << kf->id() << " point " << id;
+}
+
+// "mobile" turns the depth points on where the mapper is remote and off beside a mapper.
+TEST(LastFrameDepthPoints, MobileSettingResolvesByHost) {
+  using D = TrackingParams::LastFrameDepthPoints;
+  TrackingParams p;
+  p.last_frame_depth_points = D::kMobile;
+  EXPECT_EQ(for_host(p, TrackerHost::kMobile).last_frame_depth_points, D::kOn);
+  EXPECT_EQ(for_host(p, TrackerHost::kMonolithic).last_frame_depth_points, D::kOff);
+  p.last_frame_depth_points = D::kOn;
+  EXPECT_EQ(for_host(p, TrackerHost::kMonolithic).last_frame_depth_points, D::kOn);
+  p.last_frame_depth_points = D::kOff;
+  EXPECT_EQ(for_host(p, TrackerHost::kMobile).last_frame_depth_points, D::kOff);
 }

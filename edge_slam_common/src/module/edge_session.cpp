@@ -33,14 +33,9 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   const LocalMapSize size = load_local_map_size(cfg);
   p.update_size = size.update_size;
   p.max_update_keyframes = size.cap;
-  const std::string content = cfg.get_string("edge_slam/update_content", "covisible");
-  if (content == "newest")
-    p.update_content = EdgeSessionParams::UpdateContent::kNewest;
-  else if (content == "covisible")
-    p.update_content = EdgeSessionParams::UpdateContent::kCovisible;
-  else
-    throw std::runtime_error(cfg.origin() + ": key 'edge_slam/update_content' has value '" + content +
-                             "', expected one of newest, covisible");
+  using Content = EdgeSessionParams::UpdateContent;
+  p.update_content = cfg.get_choice<Content>("edge_slam/update_content", "covisible",
+                                             {{"newest", Content::kNewest}, {"covisible", Content::kCovisible}});
   p.keyframe = load_keyframe_decision_params(cfg);  // conditions 1-2: the tracker's own settings
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   p.reanchor_late_keyframes = cfg.get_bool_or("edge_slam/reanchor_late_keyframes", true);

@@ -17,7 +17,7 @@ bool keyframe_gap_or_mapper_idle(const KeyFrameDecisionParams& p, const KeyFrame
 }
 
 bool tracks_enough_points(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {
-  return in.tracked_points >= p.min_tracked_points;
+  return in.tracked_points + in.depth_point_inliers >= p.min_tracked_points;
 }
 
 bool tracks_fewer_than_reference(const KeyFrameDecisionParams& p, const KeyFrameDecisionInput& in) {

@@ -29,33 +29,23 @@ MobileSessionParams load_mobile_session_params(const ConfigMap& cfg) {
   p.policy.update_size = size.update_size;
   p.local_map_cap = size.cap;
   p.relocalization_frame_period = cfg.get_double_or("edge_slam/relocalization_frame_period", 0.5, 0.0, 60.0);
-  const std::string pacing = cfg.get_string("edge_slam/mobile_keyframe_pacing", "edge");
-  if (pacing == "edge")
-    p.keyframe_pacing = MobileSessionParams::KeyFramePacing::kEdge;
-  else if (pacing == "none")
-    p.keyframe_pacing = MobileSessionParams::KeyFramePacing::kNone;
-  else
-    throw std::runtime_error(cfg.origin() + ": key 'edge_slam/mobile_keyframe_pacing' has value '" + pacing +
-                             "', expected one of edge, none");
+  using Pacing = MobileSessionParams::KeyFramePacing;
+  p.keyframe_pacing = cfg.get_choice<Pacing>("edge_slam/mobile_keyframe_pacing", "edge",
+                                             {{"edge", Pacing::kEdge}, {"none", Pacing::kNone}});
   p.update_retry_window = cfg.get_double_or("edge_slam/update_retry_window", 0.5, 0.0, 60.0);
   p.refute_unfound_points = cfg.get_bool_or("edge_slam/refute_unfound_points", true);
   p.release_heap_after_update = cfg.get_bool_or("edge_slam/release_heap_after_update", true);
   p.point_culling = load_local_mapping_params(cfg).point_culling;
-  const std::string install = cfg.get_string("edge_slam/update_install", "merge");
-  if (install == "replace")
-    p.update_install = MobileSessionParams::UpdateInstall::kReplace;
-  else if (install == "keep_newer")
-    p.update_install = MobileSessionParams::UpdateInstall::kKeepNewer;
-  else if (install == "merge")
-    p.update_install = MobileSessionParams::UpdateInstall::kMerge;
-  else
-    throw std::runtime_error(cfg.origin() + ": key 'edge_slam/update_install' has value '" + install +
-                             "', expected one of replace, keep_newer, merge");
+  using Install = MobileSessionParams::UpdateInstall;
+  p.update_install = cfg.get_choice<Install>(
+      "edge_slam/update_install", "merge",
+      {{"replace", Install::kReplace}, {"keep_newer", Install::kKeepNewer}, {"merge", Install::kMerge}});
   return p;
 }
 
 namespace {
 TrackingParams mobile_tracking_params(TrackingParams t, const MobileSessionParams& p) {
+  t = for_host(t, TrackerHost::kMobile);
   t.conditions = p.keyframe_pacing == MobileSessionParams::KeyFramePacing::kEdge ? KeyFrameConditionSet::kAll
                                                                                  : KeyFrameConditionSet::kMobile;
   return t;

@@ -13,7 +13,7 @@ SlamSystem::SlamSystem(const PinholeCamera& camera, const OrbParams& orb, const 
                        std::shared_ptr<const BowVocabulary> vocabulary, const SlamSystemOptions& options,
                        RgbEncoding encoding)
     : map_(std::make_shared<Map>()), database_(std::make_shared<KeyFrameDatabase>()) {
-  TrackingParams params = tracking_params;
+  TrackingParams params = for_host(tracking_params, TrackerHost::kMonolithic);
   if (!options.local_mapping) params.depth_counts_twice = false;
   tracking_ = std::make_unique<Tracking>(camera, orb, params, map_, database_, vocabulary, encoding);
   final_full_ba_iterations_ = options.local_mapping ? options.final_full_ba_iterations : 0;

@@ -14,6 +14,7 @@
 #include "edge_slam/match/orb_matcher.h"
 #include "edge_slam/module/frame_pose.h"
 #include "edge_slam/module/keyframe_decision.h"
+#include "edge_slam/module/last_frame_depth_points.h"
 #include "edge_slam/module/update_carry_over.h"
 #include "edge_slam/util/flat_id_set.h"
 
@@ -69,6 +70,7 @@ std::string describe(const TrackingDiagnostics& d) {
       << " weak_pose=" << d.weak_pose << std::fixed << std::setprecision(2);
   if (d.has_prediction)
     out << " prediction_error_cm=" << d.prediction_error_m * 100 << " prediction_error_deg=" << d.prediction_error_deg;
+  out << " last_frame_depth_points=" << d.last_frame_depth_points << " depth_point_inliers=" << d.depth_point_inliers;
   return out.str();
 }
 
@@ -199,7 +201,7 @@ TrackingResult Tracking::track_frame(Frame frame) {
     }
   } else {
     if (state_ == TrackingState::kOk) {
-      predict_last_frame_pose();
+      predict_last_frame_pose(diag);
       if (has_velocity_ && last_frame_tracked_) {
         predicted_T_cw = velocity_ * last_frame_.T_cw();
         diag.has_prediction = true;
@@ -232,6 +234,9 @@ TrackingResult Tracking::track_frame(Frame frame) {
       ok = false;
       result.message = "non-finite pose";
     }
+    // The last frame's depth points helped place this frame; its KeyFrame decision, its new
+    // points and the next frame's search use map points only.
+    diag.depth_point_inliers = drop_depth_points(frame);
     if (ok) {
       if (last_frame_tracked_) {
         velocity_ = frame.T_cw() * last_frame_.T_wc();
@@ -251,7 +256,8 @@ TrackingResult Tracking::track_frame(Frame frame) {
       // them, locking the error into the map. The next well-tracked frame makes the KeyFrame.
       const bool keyframe_wanted = decide_keyframe(frame, inliers, diag);  // fills diag.tracked_close
       const bool few_inliers = diag.matches_before_final > 0 &&
-                               inliers < params_.weak_pose_inlier_share * diag.matches_before_final;
+                               inliers + diag.depth_point_inliers <
+                                   params_.weak_pose_inlier_share * diag.matches_before_final;
       // Few close points and a pose far from where the motion model put it: the optimisation may
       // have settled on a wrong pose (too little support to tell), so this frame's points must
       // not be placed from it. When the motion was real, the next frame confirms it.
@@ -311,10 +317,15 @@ bool Tracking::initialize(Frame& frame, std::string& why) {
   return true;
 }
 
-void Tracking::predict_last_frame_pose() {
+void Tracking::predict_last_frame_pose(TrackingDiagnostics& diag) {
   // The reference keyframe may have been moved by local BA / loop closing since.
   if (last_frame_tracked_ && last_frame_.reference_kf && !last_frame_.reference_kf->is_bad())
     last_frame_.set_pose(last_relative_to_ref_ * last_frame_.reference_kf->T_cw());
+  // A KeyFrame made map points from its depth already; any other frame lends its depth for one frame.
+  if (params_.last_frame_depth_points == TrackingParams::LastFrameDepthPoints::kOn && last_frame_tracked_ && last_frame_.has_pose() &&
+      last_keyframe_frame_id_ != last_frame_.id)
+    diag.last_frame_depth_points =
+        add_depth_points(last_frame_, camera_.th_depth, params_.new_points_per_keyframe);
 }
 
 bool Tracking::track_with_motion_model(Frame& frame, TrackingDiagnostics& diag) {
@@ -332,11 +343,20 @@ bool Tracking::track_with_motion_model(Frame& frame, TrackingDiagnostics& diag) 
     MotionHypothesis h;
     h.window = window;
     h.matches = n;
-    if (n >= kMinMotionMatches && optimize_frame_pose(frame) >= 0) h.inliers = discard_outliers(frame);
+    if (n >= kMinMotionMatches && optimize_frame_pose(frame) >= 0) {
+      h.inliers = discard_outliers(frame);  // map points only
+      h.depth_inliers = count_depth_points(frame);
+    }
     h.pose = frame.T_cw();
     h.map_points = frame.map_points;
     h.outliers = frame.outliers;
     return h;
+  };
+  // A pose stands on enough map points, or (with the last frame's depth points, as ORB-SLAM2's
+  // localization mode) on enough matches overall: the Local-Map search then decides.
+  auto found_pose = [](const MotionHypothesis& h) {
+    return h.inliers >= kMinMapMatchesAfterPose ||
+           (h.depth_inliers > 0 && h.inliers + h.depth_inliers >= kMinMotionMatches);
   };
   MotionHypothesis best = hypothesis(kMotionModelWindow);
   diag.path = "motion";
@@ -344,12 +364,13 @@ bool Tracking::track_with_motion_model(Frame& frame, TrackingDiagnostics& diag) 
   // or a previous pose that was itself weak), the true matches lie outside it and the nearest
   // look-alikes inside it support a wrong pose: few of the matches survive the optimisation.
   // Then the same prediction is searched widely as well and the better-supported pose is kept.
-  const bool supported = best.inliers >= kMinMapMatchesAfterPose &&
-                         best.inliers >= kMinMotionInlierShare * best.matches && !last_frame_weak_;
+  const bool supported = found_pose(best) &&
+                         best.inliers + best.depth_inliers >= kMinMotionInlierShare * best.matches &&
+                         !last_frame_weak_;
   if (!supported) {
     MotionHypothesis wide = hypothesis(kMotionModelRetryWindow);
     ++counters_.wide_motion_searches;
-    if (wide.inliers > best.inliers) {
+    if (wide.inliers + wide.depth_inliers > best.inliers + best.depth_inliers) {
       best = std::move(wide);
       diag.path = "motion_wide";
     }
@@ -359,7 +380,7 @@ bool Tracking::track_with_motion_model(Frame& frame, TrackingDiagnostics& diag) 
   frame.outliers = std::move(best.outliers);
   diag.initial_matches = best.matches;
   diag.initial_inliers = best.inliers;
-  return best.inliers >= kMinMapMatchesAfterPose;
+  return found_pose(best);
 }
 
 void Tracking::recompensate_rolling_shutter(Frame& frame, const std::shared_ptr<const FrameFeatures>& measured) {
@@ -462,6 +483,7 @@ bool Tracking::decide_keyframe(const Frame& frame, int inliers, TrackingDiagnost
   in.last_keyframe_frame_id = last_keyframe_frame_id_;
   in.mapper_idle = mapper_idle_;
   in.tracked_points = inliers;
+  in.depth_point_inliers = diag.depth_point_inliers;
   const int min_obs = std::min(params_.reference_min_observations, n_kfs <= 2 ? 2 : 1000);
   in.reference_tracked_points = reference_kf_->tracked_map_points(*map_, min_obs, params_.depth_counts_twice);
   const FrameFeatures& f = frame.feat();

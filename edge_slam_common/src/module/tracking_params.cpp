@@ -36,23 +36,28 @@ TrackingParams load_tracking_params(const ConfigMap& cfg) {
   p.min_inliers = cfg.get_int_or("tracking/min_inliers", p.min_inliers, 3, 100000);
   p.min_inliers_after_relocalization = cfg.get_int_or(
       "tracking/min_inliers_after_relocalization", p.min_inliers_after_relocalization, 3, 100000);
-  const std::string set = cfg.get_string("tracking/keyframe_conditions", "all");
-  if (set == "all")
-    p.conditions = KeyFrameConditionSet::kAll;
-  else if (set == "mobile")
-    p.conditions = KeyFrameConditionSet::kMobile;
-  else if (set == "edge")
-    p.conditions = KeyFrameConditionSet::kEdge;
-  else
-    throw std::runtime_error(cfg.origin() + ": key 'tracking/keyframe_conditions' has value '" + set +
-                             "', expected one of all, mobile, edge");
+  p.conditions = cfg.get_choice<KeyFrameConditionSet>("tracking/keyframe_conditions", "all",
+                                                      {{"all", KeyFrameConditionSet::kAll},
+                                                       {"mobile", KeyFrameConditionSet::kMobile},
+                                                       {"edge", KeyFrameConditionSet::kEdge}});
   p.reference_min_observations =
       cfg.get_int_or("tracking/reference_min_observations", p.reference_min_observations, 1, 1000);
   p.weak_pose_inlier_share =
       cfg.get_double_or("tracking/weak_pose_inlier_share", p.weak_pose_inlier_share, 0.0, 1.0);
   p.weak_pose_max_departure_m =
       cfg.get_double_or("tracking/weak_pose_max_departure", p.weak_pose_max_departure_m, 0.0, 10.0);
+  using DepthPoints = TrackingParams::LastFrameDepthPoints;
+  p.last_frame_depth_points = cfg.get_choice<DepthPoints>(
+      "tracking/last_frame_depth_points", "off",
+      {{"off", DepthPoints::kOff}, {"mobile", DepthPoints::kMobile}, {"on", DepthPoints::kOn}});
   p.max_local_keyframes = cfg.get_int_or("tracking/max_local_keyframes", p.max_local_keyframes, 1, 100000);
+  return p;
+}
+
+TrackingParams for_host(TrackingParams p, TrackerHost host) {
+  using D = TrackingParams::LastFrameDepthPoints;
+  if (p.last_frame_depth_points == D::kMobile)
+    p.last_frame_depth_points = host == TrackerHost::kMobile ? D::kOn : D::kOff;
   return p;
 }
 

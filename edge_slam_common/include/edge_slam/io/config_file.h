@@ -9,11 +9,14 @@
 // naming the nearest known key. Copies of a map share that record. Not thread-safe: loaders run
 // at start.
 #pragma once
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <memory>
 #include <set>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace edge_slam {
@@ -45,6 +48,19 @@ class ConfigMap {
   int get_int_or(const std::string& key, int def, int min = std::numeric_limits<int>::min(),
                  int max = std::numeric_limits<int>::max()) const;
   bool get_bool_or(const std::string& key, bool def) const;
+  // A value named by one of `choices` (name, value); `def` names the one taken when the key is
+  // absent. Any other name throws, listing the choices.
+  template <class T>
+  T get_choice(const std::string& key, const std::string& def,
+               std::initializer_list<std::pair<const char*, T>> choices) const {
+    const std::string given = get_string(key, def);
+    std::string names;
+    for (const auto& [name, value] : choices) {
+      if (given == name) return value;
+      names += (names.empty() ? "" : ", ") + std::string(name);
+    }
+    throw std::runtime_error(origin_ + ": key '" + key + "' has value '" + given + "', expected one of " + names);
+  }
 
   std::string origin() const { return origin_; }
 

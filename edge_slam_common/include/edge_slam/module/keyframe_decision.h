@@ -36,6 +36,11 @@ struct KeyFrameDecisionInput {
   int reference_tracked_points = 0;          // good points of the reference keyframe
   int tracked_close_points = 0;              // inliers with close depth
   int untracked_close_points = 0;            // close-depth keypoints without a map point
+  // Inliers to the last frame's depth points (tracking/last_frame_depth_points; 0 when off).
+  // Condition (3) asks whether the pose is well supported, and these support it: in a fast turn
+  // away from the map the map inliers fall under 50 a frame after the pose stopped needing them,
+  // and the frame that must become a KeyFrame could not (synthetic look-away turn, 2026-12-05).
+  int depth_point_inliers = 0;
 };
 
 // Which conditions the tracking module evaluates itself.

@@ -54,6 +54,8 @@ struct TrackingDiagnostics {
   double prediction_error_m = 0;  // final camera centre vs the predicted one
   double prediction_error_deg = 0;
   bool weak_pose = false;         // too little support (tracking_params.h, weak_pose_*): no KeyFrame
+  int last_frame_depth_points = 0;  // temporary points the last frame's depth lent (last_frame_depth_points.h)
+  int depth_point_inliers = 0;      // ... inliers of the frame's final pose
 };
 
 // One line of key=value pairs (path, the match counts, the reference KeyFrame, the prediction
@@ -97,7 +99,8 @@ struct TrackingCounters {
 // A pose found from the last frame's matches within a search window (motion model).
 struct MotionHypothesis {
   float window = 0;
-  int matches = 0, inliers = 0;
+  int matches = 0, inliers = 0;  // inliers: map points only
+  int depth_inliers = 0;         // the last frame's depth points left after the pose optimisation
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   std::vector<std::shared_ptr<MapPoint>> map_points;
   std::vector<bool> outliers;
@@ -158,7 +161,8 @@ class Tracking {
   int search_local_points(Frame& frame, const LocalMap& local);
   bool decide_keyframe(const Frame& frame, int inliers, TrackingDiagnostics& diag) const;
   std::shared_ptr<KeyFrame> create_keyframe(Frame& frame, bool all_depth_points);
-  void predict_last_frame_pose();
+  // Moves the last frame with its reference KeyFrame and lends it its depth points (params).
+  void predict_last_frame_pose(TrackingDiagnostics& diag);
 
   PinholeCamera camera_;
   TrackingParams params_;

@@ -34,7 +34,18 @@ struct TrackingParams {
   // local BA to pull it back, and the frames after it tracked on its points 4 cm off for seconds.
   // 0 = off (ORB-SLAM2, the paper).
   double weak_pose_max_departure_m = 0.0;  // off: 0.025 lost tracking in 2 of 4 synthetic split runs (config/slam.yaml)
+  // The last frame, when it is not a KeyFrame, lends the next frame's motion-model search
+  // temporary points from its depth (ORB-SLAM2's localization-mode "visual odometry" points;
+  // module/last_frame_depth_points.h). kMobile: only where the mapper is remote (the split's
+  // mobile), resolved by for_host(). kOff = ORB-SLAM2's SLAM mode, the paper.
+  enum class LastFrameDepthPoints { kOff, kMobile, kOn };
+  LastFrameDepthPoints last_frame_depth_points = LastFrameDepthPoints::kOff;
 };
+
+// Where the tracker runs: with its own mapper (monolithic) or on the split's mobile.
+enum class TrackerHost { kMonolithic, kMobile };
+// The settings a tracker on `host` uses: "mobile"-only choices become on or off.
+TrackingParams for_host(TrackingParams p, TrackerHost host);
 
 OrbParams load_orb_params(const ConfigMap& cfg);          // "orb:" section, defaults if absent
 // KeyFrame conditions 1-5 of the "tracking:" section: the tracker's, and the edge's 1-2.
