@@ -210,6 +210,10 @@ TEST(UpdateTrigger, DueWhenAMobileKeyFrameIsFarAndTheLastUpdateIsNotTooRecent) {
   EXPECT_FALSE(divergence_update_due(p, std::nan(""), 10.0, 2.0));
   p.divergence_m = 0.0;
   EXPECT_FALSE(divergence_update_due(p, 1.0, 10.0, std::nullopt)) << "the paper's prototype: the timer only";
+  EXPECT_TRUE(divergence_counts(p, false)) << "all moves count by default";
+  p.moves = UpdateTriggerParams::Moves::kCorrections;
+  EXPECT_FALSE(divergence_counts(p, false)) << "local BA's moves alone";
+  EXPECT_TRUE(divergence_counts(p, true));
 }
 
 // The periodic update on the data clock, polled (the nodelet's wall timer reads the bag's clock).
@@ -265,6 +269,20 @@ TEST(EdgeSessionUpdates, AnUpdateGoesOutEarlyWhenLocalBAMovesAKeyFrameTheMobileM
   EXPECT_TRUE(holds_it) << "the update carries the corrected KeyFrame";
   EXPECT_EQ(edge.counters().updates_on_divergence, 1u);
   EXPECT_EQ(edge.mobile_divergence_m(), 0.0) << "after an update the edge no longer knows the mobile's poses";
+
+  // Counting corrections only: local BA's move is measured but sends nothing early.
+  params.update_trigger.moves = UpdateTriggerParams::Moves::kCorrections;
+  EdgeSession corrections(seq.camera, 8, 1.2f, seq.vocabulary, params);
+  for (const KeyFrameRecord& r : sent) {
+    const KeyFrameRecord& record = r.id == weak.id ? weak : r;
+    ASSERT_EQ(corrections.receive_keyframe(record, wall_clock_seconds()), KeyFrameVerdict::kInserted);
+    ASSERT_TRUE(corrections.wait_until_idle(30.0));
+  }
+  divergence = 0.0;
+  EXPECT_FALSE(corrections.build_update_on_divergence(100.0, 0, &divergence));
+  EXPECT_GT(divergence, 0.03) << "the figure still reports the move";
+  EXPECT_EQ(corrections.counters().updates_on_divergence, 0u);
+  params.update_trigger.moves = UpdateTriggerParams::Moves::kAll;
 
   // The paper's prototype (divergence_m = 0): the same KeyFrames, no update before the timer.
   params.update_trigger.divergence_m = 0.0;

@@ -41,6 +41,9 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.reanchor_late_keyframes = cfg.get_bool_or("edge_slam/reanchor_late_keyframes", true);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
   p.update_trigger.divergence_m = cfg.get_double_or("edge_slam/update_on_divergence", 0.0, 0.0, 10.0);
+  using Moves = UpdateTriggerParams::Moves;
+  p.update_trigger.moves = cfg.get_choice<Moves>("edge_slam/update_on_divergence_moves", "all",
+                                                 {{"all", Moves::kAll}, {"corrections", Moves::kCorrections}});
   p.update_trigger.min_gap_s = cfg.get_double_or("edge_slam/update_min_gap", 1.0, 0.0, 3600.0);
   // The edge hosts Local-Mapping: the same "local_mapping:" section the monolithic runner reads.
   p.mapping = load_local_mapping_params(cfg);
@@ -333,13 +336,14 @@ double EdgeSession::mobile_divergence_m(int robot) const {
   return mobile_divergence_locked(robots_[robot], robot);
 }
 
-double EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot) const {
+double EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot, bool counted) const {
   std::lock_guard<std::mutex> map_lock(map_->update_mutex());
   const Eigen::Isometry3d T_group_robot = frames_.placement(robot).T_group_robot;
   double largest = 0.0;
   for (const auto& [id, view] : rs.mobile_views) {
     const auto kf = map_->keyframe(id);
     if (!kf || kf->is_bad()) continue;
+    if (counted && !divergence_counts(params_.update_trigger, view.map_moves != map_moves_)) continue;
     if (const auto d = distance_from_mobile_view(view, T_group_robot, rs.next_update_seq, kf->T_wc()))
       largest = std::max(largest, *d);
   }
@@ -350,8 +354,8 @@ std::optional<MapUpdateRecord> EdgeSession::build_update_on_divergence(double no
   std::lock_guard<std::mutex> lock(mutex_);
   if (robot < 0 || robot >= static_cast<int>(robots_.size())) return std::nullopt;
   RobotState& rs = robots_[robot];
-  const double d = mobile_divergence_locked(rs, robot);
-  if (divergence) *divergence = d;
+  if (divergence) *divergence = mobile_divergence_locked(rs, robot);
+  const double d = mobile_divergence_locked(rs, robot, true);
   if (!divergence_update_due(params_.update_trigger, d, now, rs.last_update_time)) return std::nullopt;
   auto u = build_local_map_update_locked(rs, now, robot);
   if (u) {

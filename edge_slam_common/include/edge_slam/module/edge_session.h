@@ -191,7 +191,8 @@ class EdgeSession {
   void clear_robot(RobotState& rs);
   void restore_robot(int robot, const RobotMapSection& section);  // load_map, under mutex_
   std::optional<MapUpdateRecord> build_local_map_update_locked(RobotState& rs, double now, int robot);
-  double mobile_divergence_locked(const RobotState& rs, int robot) const;  // mutex_ held
+  // mutex_ held; `counted`: only the KeyFrames update_trigger.moves counts.
+  double mobile_divergence_locked(const RobotState& rs, int robot, bool counted = false) const;
   MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs, int robot) const;
   bool multi() const { return robots_.size() > 1; }
 

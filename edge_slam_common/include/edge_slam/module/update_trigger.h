@@ -25,6 +25,16 @@ struct UpdateTriggerParams {
   // An update is sent as soon as a KeyFrame the mobile holds is this far (camera centre, m)
   // from the edge's; 0 = the timer only (the paper's prototype).
   double divergence_m = 0.0;
+  // Which moves count: every move (local BA and corrections), or only those of KeyFrames a
+  // correction (loop, merge, full BA) has moved since the mobile sent them. Since the mobile
+  // tracks its fast-turn frames on the last frame's depth too (module/last_frame_depth_points.h)
+  // its turn KeyFrames were right and the edge's local BA moved them 2-6 cm off for 2-3 s
+  // (synthetic split, in 2 of 5 bench runs at 47b3c2d), and the early update took the mobile
+  // there: the local-BA moves no longer single out a mobile that is wrong. Counting corrections
+  // only showed no difference in 5 synthetic + 3 fr1 pairs (the excursion came once in 5 runs
+  // of either arm), so kAll stays the default (config/slam.yaml).
+  enum class Moves { kAll, kCorrections };
+  Moves moves = Moves::kAll;
   // ... but not sooner than this after the last update (s): bounds the download when the map
   // moves a lot (a loop correction, a fast turn), and gives the mobile time to install one.
   double min_gap_s = 1.0;
@@ -57,7 +67,13 @@ class PeriodicSchedule {
   std::optional<double> next_;
 };
 
-// `divergence_m`: the largest such distance now; `last_update`: when the robot's last update
+// Whether a KeyFrame's distance from the mobile's view counts, given whether a correction has
+// moved the map since the mobile sent it.
+inline bool divergence_counts(const UpdateTriggerParams& p, bool corrected_since_sent) {
+  return p.moves == UpdateTriggerParams::Moves::kAll || corrected_since_sent;
+}
+
+// `divergence_m`: the largest such distance now (of the KeyFrames that count); `last_update`: when the robot's last update
 // (periodic or relocalization) was built, on the same clock as `now` (nullopt: none yet).
 inline bool divergence_update_due(const UpdateTriggerParams& p, double divergence_m, double now,
                                   std::optional<double> last_update) {
