@@ -333,19 +333,21 @@ std::optional<MapUpdateRecord> EdgeSession::build_local_map_update(double now, i
 double EdgeSession::mobile_divergence_m(int robot) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (robot < 0 || robot >= static_cast<int>(robots_.size())) return 0.0;
-  return mobile_divergence_locked(robots_[robot], robot);
+  return mobile_divergence_locked(robots_[robot], robot).all;
 }
 
-double EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot, bool counted) const {
+EdgeSession::Divergence EdgeSession::mobile_divergence_locked(const RobotState& rs, int robot) const {
   std::lock_guard<std::mutex> map_lock(map_->update_mutex());
   const Eigen::Isometry3d T_group_robot = frames_.placement(robot).T_group_robot;
-  double largest = 0.0;
+  Divergence largest;
   for (const auto& [id, view] : rs.mobile_views) {
     const auto kf = map_->keyframe(id);
     if (!kf || kf->is_bad()) continue;
-    if (counted && !divergence_counts(params_.update_trigger, view.map_moves != map_moves_)) continue;
-    if (const auto d = distance_from_mobile_view(view, T_group_robot, rs.next_update_seq, kf->T_wc()))
-      largest = std::max(largest, *d);
+    const auto d = distance_from_mobile_view(view, T_group_robot, rs.next_update_seq, kf->T_wc());
+    if (!d) continue;
+    largest.all = std::max(largest.all, *d);
+    if (divergence_counts(params_.update_trigger, view.map_moves != map_moves_))
+      largest.counted = std::max(largest.counted, *d);
   }
   return largest;
 }
@@ -354,8 +356,9 @@ std::optional<MapUpdateRecord> EdgeSession::build_update_on_divergence(double no
   std::lock_guard<std::mutex> lock(mutex_);
   if (robot < 0 || robot >= static_cast<int>(robots_.size())) return std::nullopt;
   RobotState& rs = robots_[robot];
-  if (divergence) *divergence = mobile_divergence_locked(rs, robot);
-  const double d = mobile_divergence_locked(rs, robot, true);
+  const Divergence divergences = mobile_divergence_locked(rs, robot);
+  if (divergence) *divergence = divergences.all;
+  const double d = divergences.counted;
   if (!divergence_update_due(params_.update_trigger, d, now, rs.last_update_time)) return std::nullopt;
   auto u = build_local_map_update_locked(rs, now, robot);
   if (u) {

@@ -322,8 +322,8 @@ void Tracking::predict_last_frame_pose(TrackingDiagnostics& diag) {
   if (last_frame_tracked_ && last_frame_.reference_kf && !last_frame_.reference_kf->is_bad())
     last_frame_.set_pose(last_relative_to_ref_ * last_frame_.reference_kf->T_cw());
   // A KeyFrame made map points from its depth already; any other frame lends its depth for one frame.
-  if (params_.last_frame_depth_points == TrackingParams::LastFrameDepthPoints::kOn && last_frame_tracked_ && last_frame_.has_pose() &&
-      last_keyframe_frame_id_ != last_frame_.id)
+  const bool lend_depth = params_.last_frame_depth_points == TrackingParams::LastFrameDepthPoints::kOn;
+  if (lend_depth && last_frame_tracked_ && last_frame_.has_pose() && last_keyframe_frame_id_ != last_frame_.id)
     diag.last_frame_depth_points =
         add_depth_points(last_frame_, camera_.th_depth, params_.new_points_per_keyframe);
 }

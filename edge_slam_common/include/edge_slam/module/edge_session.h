@@ -191,8 +191,12 @@ class EdgeSession {
   void clear_robot(RobotState& rs);
   void restore_robot(int robot, const RobotMapSection& section);  // load_map, under mutex_
   std::optional<MapUpdateRecord> build_local_map_update_locked(RobotState& rs, double now, int robot);
-  // mutex_ held; `counted`: only the KeyFrames update_trigger.moves counts.
-  double mobile_divergence_locked(const RobotState& rs, int robot, bool counted = false) const;
+  // The largest distance of any KeyFrame from the mobile's view, and of those update_trigger.moves
+  // counts, in one pass; mutex_ held.
+  struct Divergence {
+    double all = 0.0, counted = 0.0;
+  };
+  Divergence mobile_divergence_locked(const RobotState& rs, int robot) const;
   MapUpdateRecord pack_update(const std::vector<std::shared_ptr<KeyFrame>>& kfs, int robot) const;
   bool multi() const { return robots_.size() > 1; }
 

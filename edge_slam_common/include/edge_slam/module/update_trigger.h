@@ -73,8 +73,9 @@ inline bool divergence_counts(const UpdateTriggerParams& p, bool corrected_since
   return p.moves == UpdateTriggerParams::Moves::kAll || corrected_since_sent;
 }
 
-// `divergence_m`: the largest such distance now (of the KeyFrames that count); `last_update`: when the robot's last update
-// (periodic or relocalization) was built, on the same clock as `now` (nullopt: none yet).
+// `divergence_m`: the largest such distance now, of the KeyFrames that count; `last_update`: when
+// the robot's last update (periodic or relocalization) was built, on the same clock as `now`
+// (nullopt: none yet).
 inline bool divergence_update_due(const UpdateTriggerParams& p, double divergence_m, double now,
                                   std::optional<double> last_update) {
   if (p.divergence_m <= 0.0 || !(divergence_m > p.divergence_m)) return false;
