@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <condition_variable>
+#include <mutex>
 #include <thread>
 
 #include "edge_slam/data/keyframe_database.h"
@@ -459,4 +461,55 @@ TEST(LocalMapping, StopAndReleasePauseTheThread) {
   for (int i = 0; i < 200 && mapping.stopped(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   EXPECT_FALSE(mapping.stopped());
   mapping.shutdown();
+}
+
+// Several robots (issue #16): a pause for one robot's map (its loop correction or merge) holds
+// back that map's KeyFrames, in order, while another map's are mapped; pauses stack.
+TEST(LocalMapping, APauseForOneMapHoldsItsKeyFramesBackAndMapsTheOthers) {
+  auto map = std::make_shared<Map>();
+  const World w = wall(150);
+  std::vector<View> views(4);
+  const auto kfs = keyframes_along_wall(*map, w, views);
+  LocalMappingParams params;
+  params.local_ba = false;
+  LocalMapping mapping(map, std::make_shared<KeyFrameDatabase>(), nullptr, params);
+  mapping.group_of = [&](uint32_t id) { return id >= kfs[2]->id() ? 1 : 0; };  // 0, 1: map 0; 2, 3: map 1
+  std::mutex m;
+  std::condition_variable cv;
+  std::vector<uint32_t> done;
+  mapping.on_keyframe_done = [&](const std::shared_ptr<KeyFrame>& kf) {
+    std::lock_guard<std::mutex> lock(m);
+    done.push_back(kf->id());
+    cv.notify_all();
+  };
+  auto wait_for_count = [&](size_t n) {
+    std::unique_lock<std::mutex> lock(m);
+    return cv.wait_for(lock, std::chrono::seconds(10), [&] { return done.size() >= n; });
+  };
+  mapping.start();
+  mapping.request_stop({0});
+  mapping.request_stop({0});  // a second request (a full BA's) for the same map
+  ASSERT_TRUE(mapping.wait_until_stopped(5.0));
+  EXPECT_TRUE(mapping.stopped());
+  mapping.insert_keyframe(kfs[0]);
+  mapping.insert_keyframe(kfs[2]);
+  ASSERT_TRUE(wait_for_count(1));
+  mapping.release({0});  // one request is still in force
+  mapping.insert_keyframe(kfs[1]);
+  mapping.insert_keyframe(kfs[3]);
+  ASSERT_TRUE(wait_for_count(2));
+  {
+    // The queue is first in, first out: kfs[0] and kfs[1] were taken before kfs[2] and kfs[3]
+    // and held back.
+    std::lock_guard<std::mutex> lock(m);
+    EXPECT_EQ(done, (std::vector<uint32_t>{kfs[2]->id(), kfs[3]->id()}));
+  }
+  EXPECT_FALSE(mapping.idle());
+  EXPECT_EQ(mapping.stats().keyframes_mapped_beside_a_pause, 2);
+  mapping.release({0});
+  ASSERT_TRUE(mapping.wait_until_idle(10.0));
+  mapping.shutdown();
+  std::lock_guard<std::mutex> lock(m);
+  EXPECT_EQ(done, (std::vector<uint32_t>{kfs[2]->id(), kfs[3]->id(), kfs[0]->id(), kfs[1]->id()}));
+  EXPECT_EQ(mapping.stats().keyframes_processed, 4);
 }

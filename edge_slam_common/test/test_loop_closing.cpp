@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
 #include <unordered_map>
 #include <vector>
 
@@ -195,4 +196,57 @@ TEST(LoopClosing, NoLoopWithoutRevisit) {
     EXPECT_FALSE(loop.process_keyframe(ring.kfs[i]));
   }
   EXPECT_EQ(loop.loops_closed(), 0);
+}
+
+// Two robots' maps in one Global-Map (issue #16): a loop closed in robot 0's ring moves nothing
+// of robot 1's map. Its KeyFrames are in neither the essential graph nor the full BA: their
+// poses are 1 cm and 1 degree off what their points say, so any adjustment holding them would
+// move them.
+TEST(LoopClosing, ALoopInOneRobotsMapLeavesTheOtherRobotsMapWhereItIs) {
+  const World w = cylinder();
+  Ring ring = build_ring(w);
+  std::set<uint32_t> other_ids;
+  std::vector<std::shared_ptr<KeyFrame>> other;
+  std::unordered_map<size_t, std::shared_ptr<MapPoint>> other_points;  // physical -> point
+  Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
+  off.linear() = Eigen::AngleAxisd(M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  off.translation() = Eigen::Vector3d(0.01, 0, 0);
+  for (int i = 0; i < 3; ++i) {
+    View v;
+    const Eigen::Isometry3d T = true_pose(i);
+    const auto kf = make_keyframe(*ring.map, w, T, off * T, true, v);
+    for (size_t k = 0; k < v.physical.size(); ++k) {
+      const size_t p = v.physical[k];
+      if (auto it = other_points.find(p); it != other_points.end())
+        add_observation(kf, k, it->second);
+      else
+        other_points[p] = make_point(*ring.map, kf, k, w.points[p]);
+    }
+    kf->update_connections(*ring.map);
+    other.push_back(kf);
+    other_ids.insert(kf->id());
+  }
+  std::vector<Eigen::Isometry3d> other_poses;
+  for (const auto& kf : other) other_poses.push_back(kf->T_cw());
+  std::unordered_map<uint32_t, Eigen::Vector3d> other_positions;
+  for (const auto& [p, mp] : other_points) other_positions[mp->id()] = mp->position();
+  const double before_last = position_error(*ring.kfs.back(), kKeyFrames - 1);
+
+  LoopClosingParams params;
+  params.full_ba_in_background = false;
+  LoopClosing loop(ring.map, ring.db, nullptr, params);
+  loop.group_of = [&](uint32_t id) { return other_ids.count(id) ? 1 : 0; };
+  for (int i = 0; i < kKeyFrames; ++i) {
+    ring.db->add(ring.kfs[i]);
+    loop.process_keyframe(ring.kfs[i]);
+  }
+  ASSERT_EQ(loop.loops_closed(), 1);
+  EXPECT_TRUE(loop.merges().empty());
+  EXPECT_EQ(loop.loops()[0].correction.graph_keyframes, kKeyFrames);  // robot 0's ring only
+  EXPECT_EQ(loop.full_ba_runs(), 1);
+  EXPECT_LT(position_error(*ring.kfs.back(), kKeyFrames - 1), 0.1 * before_last);  // the ring is corrected
+  for (size_t i = 0; i < other.size(); ++i)
+    EXPECT_TRUE(other[i]->T_cw().isApprox(other_poses[i], 0.0)) << "robot 1's KeyFrame " << other[i]->id() << " moved";
+  for (const auto& [id, position] : other_positions)
+    EXPECT_EQ(ring.map->map_point(id)->position(), position) << "robot 1's point " << id << " moved";
 }

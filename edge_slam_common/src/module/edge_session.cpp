@@ -102,7 +102,12 @@ void EdgeSession::start_modules() {
       frames_.follow_anchors(poses);
     };
   }
-  if (multi() && modules->loop()) {  // one robot: one group, the paper's loop closing as it was
+  if (multi()) {  // one robot: one map, the paper's mapping and loop closing as they were
+    // Each robot's map is mapped, corrected and merged on its own: a correction holds back the
+    // KeyFrames of the map(s) it concerns only.
+    modules->mapping().group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
+  }
+  if (multi() && modules->loop()) {
     modules->loop()->group_of = [this](uint32_t kf_id) { return frames_.group_of(kf_id); };
     modules->loop()->on_merge = [this](int from, int into, const Eigen::Isometry3d& T) { frames_.merge(from, into, T); };
   }

@@ -41,8 +41,10 @@ int apply_full_ba_result(Map& map, const BundleAdjustmentResult& result) {
     if (mp->is_bad()) continue;
     const auto it = adjusted.find(mp->id());
     if (it != adjusted.end()) {
-      if (it->second.allFinite()) mp->set_position(it->second);
+      if (!it->second.allFinite()) continue;
+      mp->set_position(it->second);
     } else {
+      // Not in the problem: follows its reference KeyFrame if that moved (another robot's map: not).
       const uint32_t ref = mp->reference_kf_id();
       if (!old_pose.count(ref) || !new_pose.count(ref)) continue;
       mp->set_position(new_pose[ref].inverse() * (old_pose[ref] * mp->position()));

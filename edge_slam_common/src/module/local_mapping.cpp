@@ -7,13 +7,11 @@
 #include "edge_slam/module/neighbour_fusion.h"
 #include "edge_slam/optimize/local_bundle_adjustment.h"
 #include "edge_slam/util/log.h"
+#include "edge_slam/util/stopwatch.h"
 
 namespace edge_slam {
 namespace {
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 }  // namespace
 
 LocalMapping::LocalMapping(std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
@@ -35,8 +33,9 @@ void LocalMapping::start() {
 
 void LocalMapping::shutdown(bool drain) {
   if (!drain) queue_.clear();
+  drain_held_ = drain;
   queue_.close();
-  release();
+  release_all();  // held-back KeyFrames are mapped (drain) or dropped like the queue
   if (thread_.joinable()) thread_.join();
   running_ = false;
 }
@@ -65,56 +64,128 @@ bool LocalMapping::wait_until_idle(double timeout_s) const {
   return true;
 }
 
-void LocalMapping::request_stop() {
+void LocalMapping::request_stop(const std::vector<int>& maps) {
   std::lock_guard<std::mutex> lock(pause_mutex_);
-  stop_requested_ = true;
-  abort_ba_ = true;
+  if (maps.empty() || !group_of) {
+    paused_maps_.insert(kEveryMap);
+  } else {
+    for (int m : maps) paused_maps_.insert(m);
+  }
+  // A local BA of a held-back map gives way at once (ORB-SLAM2's abort flag); another map's goes on.
+  if (processing_ && held_back_locked(processing_map_)) abort_ba_ = true;
+}
+
+bool LocalMapping::held_back_locked(int map) const {
+  return paused_maps_.count(kEveryMap) > 0 || paused_maps_.count(map) > 0;
+}
+
+bool LocalMapping::stopped() const {
+  std::lock_guard<std::mutex> lock(pause_mutex_);
+  return !paused_maps_.empty() && !(processing_ && held_back_locked(processing_map_));
 }
 
 bool LocalMapping::wait_until_stopped(double timeout_s) const {
   if (!running_) return true;
   std::unique_lock<std::mutex> lock(pause_mutex_);
-  return pause_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return stopped_.load(); });
+  return pause_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                            [&] { return !running_ || !(processing_ && held_back_locked(processing_map_)); });
 }
 
-void LocalMapping::release() {
+void LocalMapping::release(const std::vector<int>& maps) {
   {
     std::lock_guard<std::mutex> lock(pause_mutex_);
-    stop_requested_ = false;
+    auto drop = [&](int m) {
+      const auto it = paused_maps_.find(m);
+      if (it != paused_maps_.end()) paused_maps_.erase(it);
+    };
+    if (maps.empty() || !group_of) {
+      drop(kEveryMap);
+    } else {
+      for (int m : maps) drop(m);
+    }
   }
   pause_cv_.notify_all();
 }
 
-void LocalMapping::pause_if_requested() {
-  std::unique_lock<std::mutex> lock(pause_mutex_);
-  if (!stop_requested_) return;
-  stopped_ = true;
+void LocalMapping::release_all() {
+  {
+    std::lock_guard<std::mutex> lock(pause_mutex_);
+    paused_maps_.clear();
+  }
   pause_cv_.notify_all();
-  pause_cv_.wait(lock, [&] { return !stop_requested_; });
-  stopped_ = false;
+}
+
+int LocalMapping::map_of(const std::shared_ptr<KeyFrame>& kf) const {
+  return group_of && kf ? group_of(kf->id()) : 0;
+}
+
+std::shared_ptr<KeyFrame> LocalMapping::next_keyframe() {
+  std::unique_lock<std::mutex> lock(pause_mutex_);
+  // Held-back KeyFrames are older than any queued one of the same map: they go first.
+  for (auto it = held_.begin(); it != held_.end(); ++it) {
+    const int map = map_of(*it);
+    if (held_back_locked(map)) continue;
+    auto kf = *it;
+    held_.erase(it);
+    processing_ = true;
+    processing_map_ = map;
+    return kf;
+  }
+  if (!held_.empty() && queue_.size() == 0) {
+    // Only held-back KeyFrames: wait for a release (or a new KeyFrame, checked within 20 ms).
+    pause_cv_.wait_for(lock, std::chrono::milliseconds(20));
+    return nullptr;
+  }
+  lock.unlock();
+  auto item = queue_.pop_for(std::chrono::milliseconds(20));
+  if (!item) return nullptr;
+  lock.lock();
+  const int map = map_of(*item);
+  if (held_back_locked(map)) {
+    held_.push_back(*item);
+    return nullptr;
+  }
+  processing_ = true;
+  processing_map_ = map;
+  return *item;
 }
 
 void LocalMapping::run() {
   for (;;) {
-    pause_if_requested();
-    auto item = queue_.pop_for(std::chrono::milliseconds(20));
-    if (!item) {
-      if (queue_.closed() && queue_.size() == 0) break;
-      if (!busy_) set_idle(true);
+    auto kf = next_keyframe();
+    bool processing;
+    {
+      std::lock_guard<std::mutex> lock(pause_mutex_);
+      processing = processing_;
+    }
+    if (!processing) {
+      if (queue_.closed() && queue_.size() == 0 && (held_.empty() || !drain_held_)) break;
+      if (!busy_ && held_.empty()) set_idle(true);
       continue;
     }
     busy_ = true;
     set_idle(false);
-    process_keyframe(*item);
+    bool beside_a_pause;
+    {
+      std::lock_guard<std::mutex> lock(pause_mutex_);
+      beside_a_pause = !paused_maps_.empty();
+    }
+    process_keyframe(kf);
     busy_ = false;
+    {
+      std::lock_guard<std::mutex> lock(pause_mutex_);
+      processing_ = false;
+    }
+    pause_cv_.notify_all();
+    if (beside_a_pause && kf) {
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      ++stats_.keyframes_mapped_beside_a_pause;
+    }
     ++completed_;
-    if (!new_keyframes_waiting()) set_idle(true);
+    if (!new_keyframes_waiting() && held_.empty()) set_idle(true);
   }
-  {
-    std::lock_guard<std::mutex> lock(pause_mutex_);
-    stopped_ = true;  // a finished mapper counts as stopped for waiters
-  }
-  pause_cv_.notify_all();
+  running_ = false;
+  pause_cv_.notify_all();  // a finished mapper counts as stopped for waiters
   set_idle(true);
 }
 
@@ -152,7 +223,7 @@ void LocalMapping::refute_points(const std::vector<uint32_t>& ids) {
 }
 
 void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
-  const auto t0 = Clock::now();
+  const Stopwatch t0;
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) {
     log_info(log_text("[mapping] keyframe ", (kf ? std::to_string(kf->id()) : "null"),
         " was erased while queued: skipped"));
@@ -186,7 +257,7 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   std::vector<std::shared_ptr<KeyFrame>> culled_kfs;
   {
     std::lock_guard<std::mutex> lock(pause_mutex_);
-    stop_requested = stop_requested_;
+    stop_requested = held_back_locked(map_of(kf));
   }
   if (!new_keyframes_waiting() && !stop_requested) {
     if (params_.local_ba && map_->num_keyframes() > 2) run_local_ba(kf);
@@ -204,14 +275,14 @@ void LocalMapping::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     stats_.points_created += created;
     stats_.points_fused += fused;
     stats_.keyframes_culled += kf_culled;
-    process_ms_.push_back(ms_since(t0));
+    process_ms_.push_back(t0.ms());
   }
   if (on_keyframe_processed && !kf->is_bad()) on_keyframe_processed(kf);
   if (on_keyframe_done) on_keyframe_done(kf);
 }
 
 void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
-  const auto t0 = Clock::now();
+  const Stopwatch t0;
   abort_ba_ = false;
   BundleAdjustmentProblem problem;
   {
@@ -238,7 +309,7 @@ void LocalMapping::run_local_ba(const std::shared_ptr<KeyFrame>& kf) {
     ++stats_.local_ba_failed;
     log_warn(log_text("[mapping] local BA on keyframe ", kf->id(), " failed: ", result.message));
   }
-  local_ba_ms_.push_back(ms_since(t0));
+  local_ba_ms_.push_back(t0.ms());
 }
 
 LocalMappingStats LocalMapping::stats() const {

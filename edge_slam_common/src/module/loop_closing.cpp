@@ -11,13 +11,11 @@
 #include "edge_slam/module/map_ba_bridge.h"
 #include "edge_slam/optimize/full_bundle_adjustment.h"
 #include "edge_slam/util/log.h"
+#include "edge_slam/util/stopwatch.h"
 
 namespace edge_slam {
 namespace {
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 }  // namespace
 
 LoopClosing::LoopClosing(std::shared_ptr<Map> map, std::shared_ptr<KeyFrameDatabase> database,
@@ -41,11 +39,16 @@ void LoopClosing::start() {
 void LoopClosing::shutdown(bool drain) {
   if (!drain) {
     queue_.clear();
-    abort_full_ba_ = true;
+    shutting_down_ = true;
+    std::lock_guard<std::mutex> lock(full_ba_mutex_);
+    for (auto& job : full_bas_) job.abort = true;
   }
   queue_.close();
   if (thread_.joinable()) thread_.join();
-  if (full_ba_thread_.joinable()) full_ba_thread_.join();
+  std::lock_guard<std::mutex> lock(full_ba_mutex_);
+  for (auto& job : full_bas_)
+    if (job.thread.joinable()) job.thread.join();
+  full_bas_.clear();
 }
 
 void LoopClosing::insert_keyframe(const std::shared_ptr<KeyFrame>& kf) {
@@ -68,23 +71,32 @@ void LoopClosing::run() {
 
 bool LoopClosing::wait_until_idle(double timeout_s) const {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-  while ((completed_.load() < submitted_.load() && running_) || full_ba_running_) {
+  while ((completed_.load() < submitted_.load() && running_) || full_bas_running_ > 0) {
     if (Clock::now() > deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return true;
 }
 
-void LoopClosing::stop_full_ba() {
-  if (!full_ba_thread_.joinable()) return;
-  if (full_ba_running_) log_info("[loop] aborting the running full BA (a new loop arrived)");
-  abort_full_ba_ = true;
-  full_ba_thread_.join();
-  abort_full_ba_ = false;
+void LoopClosing::stop_full_bas(const std::vector<int>& maps) {
+  std::lock_guard<std::mutex> lock(full_ba_mutex_);
+  for (auto it = full_bas_.begin(); it != full_bas_.end();) {
+    const bool of_these = maps.empty() || std::find(maps.begin(), maps.end(), it->map) != maps.end();
+    if (!of_these && !it->done) {
+      ++it;
+      continue;
+    }
+    if (!it->done) {
+      log_info(log_text("[loop] aborting the running full BA of map ", it->map, " (a new loop arrived in it)"));
+      it->abort = true;
+    }
+    if (it->thread.joinable()) it->thread.join();
+    it = full_bas_.erase(it);
+  }
 }
 
 bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
-  const auto t0 = Clock::now();
+  const Stopwatch t0;
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) return false;
   const auto candidates = detector_.detect(*map_, *database_, kf);
   if (debug_) {
@@ -96,7 +108,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   const bool found = !candidates.empty() && verify_loop(*map_, kf, candidates, match, &why, params_.verifier);
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    detect_ms_.push_back(ms_since(t0));
+    detect_ms_.push_back(t0.ms());
   }
   if (!candidates.empty() && !found)
     log_info(log_text("[loop] KF ", kf->id(), ": ", candidates.size(),
@@ -114,24 +126,26 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
         pose(match.T_cw_corrected.inverse()), " | ", pose(match.T_cw_aligned.inverse())));
   }
 
-  const auto t1 = Clock::now();
-  stop_full_ba();
+  const Stopwatch t1;
+  // Two groups (robots whose maps are not joined yet): a merge. The group with the higher id
+  // moves rigidly into the other's coordinates by the verified transform (so group 0, the
+  // world, never moves), after which the loop correction is near identity.
+  const int current_group = map_of(kf->id());
+  const int loop_group = map_of(match.loop_kf->id());
+  const bool merge = current_group != loop_group && current_group >= 0 && loop_group >= 0;
+  const int from = std::max(current_group, loop_group), into = std::min(current_group, loop_group);
+  // Serialised per map: only this map's (both maps' for a merge) full BA and mapping give way.
+  const std::vector<int> maps = merge ? std::vector<int>{from, into} : std::vector<int>{current_group};
+  stop_full_bas(maps);
   if (local_mapping_) {
-    local_mapping_->request_stop();
+    local_mapping_->request_stop(maps);
     if (!local_mapping_->wait_until_stopped(params_.mapper_stop_timeout_s)) {
-      local_mapping_->release();
+      local_mapping_->release(maps);
       log_warn(log_text("[loop] local mapping did not pause in time: loop KF ", kf->id(), " <-> KF ",
           match.loop_kf->id(), " dropped"));
       return false;
     }
   }
-  // Two groups (robots whose maps are not joined yet): a merge. The group with the higher id
-  // moves rigidly into the other's coordinates by the verified transform (so group 0, the
-  // world, never moves), after which the loop correction is near identity.
-  const int current_group = group_of ? group_of(kf->id()) : 0;
-  const int loop_group = group_of ? group_of(match.loop_kf->id()) : 0;
-  const bool merge = current_group != loop_group && current_group >= 0 && loop_group >= 0;
-  const int from = std::max(current_group, loop_group), into = std::min(current_group, loop_group);
   Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
   LoopCorrectionReport report;
   {
@@ -145,10 +159,14 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       if (from == loop_group) match.T_cw_corrected = kf->T_cw();  // the loop side came to it
       if (on_merge) on_merge(from, into, T_into_from);
     }
-    report = correct_loop(*map_, kf, match, params_.correction);
+    // After a merge every KeyFrame of `from` reports `into`.
+    const int corrected_map = merge ? into : current_group;
+    std::function<bool(uint32_t)> in_map;
+    if (group_of) in_map = [this, corrected_map](uint32_t id) { return group_of(id) == corrected_map; };
+    report = correct_loop(*map_, kf, match, params_.correction, in_map);
     if (on_map_moved) on_map_moved();
   }
-  if (local_mapping_) local_mapping_->release();
+  if (local_mapping_) local_mapping_->release(maps);
   if (report.group_keyframes == 0 && !merge) {
     log_info(log_text("[loop] KF ", kf->id(), " <-> KF ", match.loop_kf->id(), " not corrected: ", report.message));
     return false;
@@ -165,19 +183,23 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       merges_.push_back(MergeEvent{kf->id(), match.loop_kf->id(), from, into, match.num_matches, T_into_from, report});
     else
       loops_.push_back(LoopEvent{kf->id(), match.loop_kf->id(), match.num_matches, report});
-    correct_ms_.push_back(ms_since(t1));
+    correct_ms_.push_back(t1.ms());
   }
-  start_full_ba(kf->id());
+  start_full_ba(kf->id(), merge ? into : current_group);
   return true;
 }
 
-void LoopClosing::start_full_ba(uint32_t kf_id) {
+void LoopClosing::start_full_ba(uint32_t kf_id, int map) {
   if (!params_.full_ba) return;
-  full_ba_running_ = true;
+  std::lock_guard<std::mutex> lock(full_ba_mutex_);
+  FullBa& job = full_bas_.emplace_back();
+  job.map = map;
+  job.loop_kf_id = kf_id;
+  ++full_bas_running_;
   if (params_.full_ba_in_background)
-    full_ba_thread_ = std::thread([this, kf_id] { run_full_ba(kf_id); });
+    job.thread = std::thread([this, &job] { run_full_ba(job); });
   else
-    run_full_ba(kf_id);
+    run_full_ba(job);
 }
 
 void LoopClosing::move_group(int from, const Eigen::Isometry3d& T_into_from) {
@@ -194,36 +216,34 @@ void LoopClosing::move_group(int from, const Eigen::Isometry3d& T_into_from) {
   log_info(log_text("[loop] merging map ", from, ": ", moved_kfs, " KFs and ", moved_points, " points moved"));
 }
 
-void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
-  const auto t0 = Clock::now();
+void LoopClosing::run_full_ba(FullBa& job) {
+  const Stopwatch t0;
+  const uint32_t loop_kf_id = job.loop_kf_id;
+  const std::vector<int> maps{job.map};
+  // The other robots' maps (not joined to this one) are not in the problem and do not move.
+  std::function<bool(uint32_t)> in_map;
+  if (group_of) in_map = [this, &job](uint32_t id) { return group_of(id) == job.map; };
   BundleAdjustmentProblem problem;
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
-    problem = build_full_ba_problem(*map_);
+    problem = build_full_ba_problem(*map_, in_map);
   }
-  // Maps not joined yet (several robots) each keep their gauge: the first KeyFrame of each group is held.
-  if (group_of) {
-    std::map<int, size_t> first_of_group;
-    for (size_t i = 0; i < problem.keyframes.size(); ++i) {
-      const int g = group_of(problem.keyframes[i].id);
-      auto it = first_of_group.find(g);
-      if (it == first_of_group.end() || problem.keyframes[i].id < problem.keyframes[it->second].id) first_of_group[g] = i;
-    }
-    if (first_of_group.size() > 1)
-      for (const auto& [g, i] : first_of_group) problem.keyframes[i].fixed = true;
-  }
+  const auto finish = [&] {
+    job.done = true;
+    --full_bas_running_;
+  };
   const BundleAdjustmentResult result =
       problem.keyframes.size() < 2 ? BundleAdjustmentResult{}
-                                   : run_full_bundle_adjustment(problem, params_.full_ba_iterations, &abort_full_ba_);
-  if (!result.ok || result.aborted || abort_full_ba_) {
+                                   : run_full_bundle_adjustment(problem, params_.full_ba_iterations, &job.abort);
+  if (!result.ok || result.aborted || job.abort || shutting_down_) {
     log_warn(log_text("[loop] full BA after loop at KF ", loop_kf_id, " ",
         (result.ok ? "aborted" : "failed: " + result.message), "; map left as corrected"));
-    full_ba_running_ = false;
+    finish();
     return;
   }
   bool paused = true;
   if (local_mapping_) {
-    local_mapping_->request_stop();
+    local_mapping_->request_stop(maps);
     paused = local_mapping_->wait_until_stopped(params_.mapper_stop_timeout_s);
   }
   int propagated = 0;
@@ -233,8 +253,8 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
     propagated = apply_full_ba_result(*map_, result);
     if (on_map_moved) on_map_moved();
   }
-  if (local_mapping_) local_mapping_->release();
-  const double ms = ms_since(t0);
+  if (local_mapping_) local_mapping_->release(maps);
+  const double ms = t0.ms();
   log_info(log_text("[loop] full BA after loop at KF ", loop_kf_id, (paused ? " applied: " : " NOT applied: "),
       problem.keyframes.size(), " KFs, ", problem.points.size(), " points, ", propagated, " newer KFs propagated, ",
       static_cast<int>(ms), " ms"));
@@ -243,7 +263,7 @@ void LoopClosing::run_full_ba(uint32_t loop_kf_id) {
     ++full_ba_runs_;
     full_ba_ms_.push_back(ms);
   }
-  full_ba_running_ = false;
+  finish();
 }
 
 int LoopClosing::loops_closed() const {

@@ -7,6 +7,7 @@
 
 #include "edge_slam/data/map_edit.h"
 #include "edge_slam/match/keyframe_search.h"
+#include "edge_slam/util/stopwatch.h"
 
 namespace edge_slam {
 namespace {
@@ -55,7 +56,9 @@ std::vector<PoseGraphEdge> essential_edges(const Map& map, const std::vector<std
 }  // namespace
 
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
-                                  const LoopCorrectionParams& params) {
+                                  const LoopCorrectionParams& params,
+                                  const std::function<bool(uint32_t kf_id)>& in_map) {
+  const Stopwatch t0;
   LoopCorrectionReport report;
   if (kf->is_bad() || !loop.loop_kf || loop.loop_kf->is_bad()) {
     report.message = "a keyframe of the loop went bad before correction";
@@ -134,10 +137,10 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   }
   loop_links[kf->id()].insert(loop.loop_kf->id());
 
-  // 5. Essential graph over all keyframes, loop keyframe fixed.
+  // 5. Essential graph over the map's keyframes, loop keyframe fixed.
   std::vector<std::shared_ptr<KeyFrame>> kfs;
   for (auto& k : map.keyframes())
-    if (!k->is_bad()) kfs.push_back(std::move(k));
+    if (!k->is_bad() && (!in_map || in_map(k->id()))) kfs.push_back(std::move(k));
   PoseById measured, before_graph;
   PoseGraphProblem problem;
   for (const auto& k : kfs) {
@@ -154,7 +157,10 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   problem.edges = essential_edges(map, kfs, measured, loop_links, kf->id(), loop.loop_kf->id(),
                                   params.essential_min_weight);
   report.graph_edges = static_cast<int>(problem.edges.size());
+  report.graph_keyframes = static_cast<int>(problem.vertices.size());
+  const Stopwatch t_graph;
   const PoseGraphResult graph = optimize_pose_graph(problem, params.pose_graph);
+  report.graph_ms = t_graph.ms();
   report.graph_initial_cost = graph.initial_cost;
   report.graph_final_cost = graph.final_cost;
   if (graph.ok) {
@@ -185,6 +191,7 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   report.ok = graph.ok;
   report.message = graph.ok ? "essential graph: " + graph.message
                             : "essential graph failed (" + graph.message + "); group correction kept";
+  report.total_ms = t0.ms();
   return report;
 }
 

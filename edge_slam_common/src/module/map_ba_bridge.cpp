@@ -21,8 +21,10 @@ BaObservation make_observation(const KeyFrame& kf, uint32_t mp_id, size_t idx) {
 }
 
 // Adds the observations of `mp` made by keyframes in `slot` (id -> included).
-void add_point(BundleAdjustmentProblem& p, const MapPoint& mp,
-               const std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>>& kfs) {
+// Returns the number of observations added.
+size_t add_point(BundleAdjustmentProblem& p, const MapPoint& mp,
+                 const std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>>& kfs) {
+  const size_t before = p.observations.size();
   BaPoint bp;
   bp.id = mp.id();
   bp.position = mp.position();
@@ -33,6 +35,7 @@ void add_point(BundleAdjustmentProblem& p, const MapPoint& mp,
     if (it->second->map_point_id(idx) != mp.id()) continue;
     p.observations.push_back(make_observation(*it->second, mp.id(), idx));
   }
+  return p.observations.size() - before;
 }
 
 }  // namespace
@@ -85,11 +88,11 @@ BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& k
   return p;
 }
 
-BundleAdjustmentProblem build_full_ba_problem(const Map& map) {
+BundleAdjustmentProblem build_full_ba_problem(const Map& map, const std::function<bool(uint32_t kf_id)>& in_map) {
   BundleAdjustmentProblem p;
   std::unordered_map<uint32_t, std::shared_ptr<KeyFrame>> all;
   for (auto& kf : map.keyframes()) {
-    if (kf->is_bad()) continue;
+    if (kf->is_bad() || (in_map && !in_map(kf->id()))) continue;
     if (p.keyframes.empty()) p.camera = kf->features().camera;
     BaKeyFrame b;
     b.id = kf->id();
@@ -98,8 +101,12 @@ BundleAdjustmentProblem build_full_ba_problem(const Map& map) {
     p.keyframes.push_back(b);
     all.emplace(kf->id(), std::move(kf));
   }
+  // The gauge: a spanning tree's root is held; a map whose root has gone holds its oldest KeyFrame.
+  if (!p.keyframes.empty() && std::none_of(p.keyframes.begin(), p.keyframes.end(), [](const BaKeyFrame& b) { return b.fixed; }))
+    std::min_element(p.keyframes.begin(), p.keyframes.end(), [](const BaKeyFrame& a, const BaKeyFrame& b) { return a.id < b.id; })
+        ->fixed = true;
   for (const auto& mp : map.map_points())
-    if (!mp->is_bad()) add_point(p, *mp, all);
+    if (!mp->is_bad() && add_point(p, *mp, all) == 0) p.points.pop_back();
   return p;
 }
 

@@ -20,6 +20,9 @@ ModuleFigures collect_module_figures(const LocalMapping* mapping, const LoopClos
     f.full_ba_runs = loop->full_ba_runs();
     f.loops_closed = loop->loops_closed();
     f.loops = loop->loops();
+    // The essential graph's share of each correction (loops and merges), under the map lock.
+    for (const auto& l : f.loops) f.loop_correction_graph_ms.push_back(l.correction.graph_ms);
+    for (const auto& mg : loop->merges()) f.loop_correction_graph_ms.push_back(mg.correction.graph_ms);
   }
   return f;
 }
@@ -41,12 +44,14 @@ void add_module_figures(MetricsJson& m, const ModuleFigures& f) {
         .integer("local_ba_failed", s.local_ba_failed)
         .integer("local_ba_free_keyframes", s.local_ba_free_keyframes)
         .integer("local_ba_fixed_keyframes", s.local_ba_fixed_keyframes)
-        .integer("local_ba_observations", s.local_ba_observations);
+        .integer("local_ba_observations", s.local_ba_observations)
+        .integer("keyframes_mapped_beside_a_pause", s.keyframes_mapped_beside_a_pause);
     m.object("local_mapping", stats).timing("local_mapping_ms", f.local_mapping_ms).timing("local_ba_ms", f.local_ba_ms);
   }
   if (f.has_loop_closing) {
     m.timing("loop_detection_ms", f.loop_detection_ms)
         .timing("loop_correction_ms", f.loop_correction_ms)
+        .timing("loop_correction_graph_ms", f.loop_correction_graph_ms)
         .timing("full_ba_ms", f.full_ba_ms);
     std::string loops = "[";
     for (size_t k = 0; k < f.loops.size(); ++k)

@@ -5,13 +5,17 @@
 // no other keyframe waits (4) fuses duplicates with the neighbours, (5) runs local BA
 // (aborted when a keyframe arrives) and (6) culls redundant keyframes. Processed keyframes
 // are handed to on_keyframe_processed (the loop closer's queue).
-// Loop correction pauses it with request_stop() / wait_until_stopped() / release().
+// Loop correction pauses it with request_stop() / wait_until_stopped() / release(); with several
+// maps in one (several robots, module/robot_frames.h) only the KeyFrames of the maps being
+// corrected wait, and the other robots' KeyFrames go on being mapped.
 #pragma once
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 #include <unordered_set>
@@ -39,6 +43,9 @@ struct LocalMappingStats {
   int local_ba_runs = 0;
   int local_ba_aborted = 0;
   int local_ba_failed = 0;
+  // KeyFrames mapped while another map's KeyFrames were held back by a pause (several robots:
+  // one robot's mapping going on during another's loop correction or merge).
+  int keyframes_mapped_beside_a_pause = 0;
   // Window sizes summed over the local BA runs (divide by local_ba_runs for the mean).
   long long local_ba_free_keyframes = 0;
   long long local_ba_fixed_keyframes = 0;
@@ -68,11 +75,21 @@ class LocalMapping {
   // Waits (bounded) until every KeyFrame inserted so far has been processed.
   bool wait_until_idle(double timeout_s) const;
 
-  // Pause protocol for loop correction.
-  void request_stop();
-  bool wait_until_stopped(double timeout_s) const;  // true once paused (or not running)
-  void release();
-  bool stopped() const { return stopped_; }
+  // Several maps in one (module/robot_frames.h), set before start(): the map of a KeyFrame.
+  // Unset: one map.
+  std::function<int(uint32_t kf_id)> group_of;
+
+  // Pause protocol for loop correction. request_stop(maps) holds back the KeyFrames of those maps
+  // (of every map when `maps` is empty or group_of is unset): they stay queued in order and the
+  // other maps' KeyFrames are mapped meanwhile. wait_until_stopped() returns true once no
+  // KeyFrame of a held-back map is being processed (or the thread is not running).
+  // release(maps) lifts the request made with the same maps. Requests stack: a correction and a
+  // full BA of different maps may each hold theirs.
+  void request_stop(const std::vector<int>& maps = {});
+  bool wait_until_stopped(double timeout_s) const;
+  void release(const std::vector<int>& maps = {});
+  // A request is in force and no KeyFrame of a held-back map is being processed.
+  bool stopped() const;
 
   // Keyframe condition 2 (Tracking::set_mapper_idle) and the loop closer's input.
   std::function<void(bool idle)> on_idle_changed;
@@ -93,7 +110,12 @@ class LocalMapping {
   bool new_keyframes_waiting() const { return queue_.size() > 0; }
   void finish_insertion(const std::shared_ptr<KeyFrame>& kf);
   void run_local_ba(const std::shared_ptr<KeyFrame>& kf);
-  void pause_if_requested();
+  // The next KeyFrame to map: the oldest held-back one whose map is free again, else the queue's
+  // (held back, and the next one looked for, when its map is paused). Null: none for now.
+  std::shared_ptr<KeyFrame> next_keyframe();
+  int map_of(const std::shared_ptr<KeyFrame>& kf) const;
+  bool held_back_locked(int map) const;  // pause_mutex_ held
+  void release_all();
 
   std::shared_ptr<Map> map_;
   std::shared_ptr<KeyFrameDatabase> database_;
@@ -112,10 +134,14 @@ class LocalMapping {
   // compare them, so the moment between a pop and the start of its processing is not "idle".
   std::atomic<uint64_t> submitted_{0}, completed_{0};
 
+  static constexpr int kEveryMap = -1000;  // a request that holds back every map
   mutable std::mutex pause_mutex_;
   mutable std::condition_variable pause_cv_;
-  bool stop_requested_ = false;
-  std::atomic<bool> stopped_{false};
+  std::multiset<int> paused_maps_;     // one entry per map per request in force
+  bool processing_ = false;            // a KeyFrame is being mapped ...
+  int processing_map_ = 0;             // ... of this map
+  std::deque<std::shared_ptr<KeyFrame>> held_;  // popped while their map was paused; mapping thread only
+  std::atomic<bool> drain_held_{true};          // shutdown(false) drops them with the queue
 
   mutable std::mutex stats_mutex_;
   LocalMappingStats stats_;

@@ -2,11 +2,15 @@
 // takes the keyframes local mapping has processed, detects loop candidates (LoopDetector),
 // verifies them geometrically (verify_loop), corrects the loop with local mapping paused
 // (correct_loop) and then runs a full bundle adjustment in a background thread; a newer
-// loop aborts a running full BA. Each closed loop is logged as
+// loop in the same map aborts a running full BA. With several maps in one (several robots),
+// loops and merges are serialised per map: a correction pauses Local-Mapping and moves
+// KeyFrames for the map(s) it concerns only, each map has its own full BA, and the other
+// robots' mapping, loop detection and full BA go on. Each closed loop is logged as
 //   "loop closed: KF <current> <-> KF <loop>, <n> matches".
 #pragma once
 #include <atomic>
 #include <functional>
+#include <list>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -92,11 +96,19 @@ class LoopClosing {
 
  private:
   void run();
-  void run_full_ba(uint32_t loop_kf_id);
+  struct FullBa {
+    int map = 0;  // the map it adjusts (the group of its loop KeyFrame)
+    uint32_t loop_kf_id = 0;
+    std::atomic<bool> abort{false}, done{false};
+    std::thread thread;
+  };
+  void run_full_ba(FullBa& job);
   // Moves every KeyFrame of group `from` and its points by T_into_from; the caller holds the map update mutex.
   void move_group(int from, const Eigen::Isometry3d& T_into_from);
-  void start_full_ba(uint32_t kf_id);
-  void stop_full_ba();
+  void start_full_ba(uint32_t kf_id, int map);
+  // Aborts and joins the full BAs of these maps (every map: empty); joins finished ones.
+  void stop_full_bas(const std::vector<int>& maps);
+  int map_of(uint32_t kf_id) const { return group_of ? group_of(kf_id) : 0; }
 
   std::shared_ptr<Map> map_;
   std::shared_ptr<KeyFrameDatabase> database_;
@@ -110,9 +122,10 @@ class LoopClosing {
   std::atomic<bool> running_{false};                   // the thread is consuming the queue
   bool debug_;  // EDGE_SLAM_DEBUG_LOOP set: one line per keyframe on detection
 
-  std::thread full_ba_thread_;
-  std::atomic<bool> full_ba_running_{false};
-  std::atomic<bool> abort_full_ba_{false};
+  std::mutex full_ba_mutex_;
+  std::list<FullBa> full_bas_;                 // started by the loop thread, at most one per map
+  std::atomic<int> full_bas_running_{0};
+  std::atomic<bool> shutting_down_{false};     // shutdown(false): running full BAs abort
 
   mutable std::mutex stats_mutex_;
   std::vector<LoopEvent> loops_;

@@ -4,8 +4,11 @@
 // the essential graph (spanning tree + covisibility >= 100 + previous loop edges + new loop
 // links; loop keyframe fixed) is optimised, and every other map point follows the keyframe
 // it was corrected with (else its reference keyframe). Finally the loop edge is recorded.
-// The caller has paused local mapping and holds Map::update_mutex().
+// With several maps in one (several robots), only the corrected map's KeyFrames are in the graph
+// and move: the other robots' maps are left as they are.
+// The caller has paused local mapping for that map and holds Map::update_mutex().
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -36,9 +39,14 @@ struct LoopCorrectionReport {
   // Keyframes of the current keyframe's covisible group that are also the loop keyframe or its
   // covisibles: moved as "current side" although they belong to the loop side.
   int group_on_loop_side = 0;
+  int graph_keyframes = 0;
+  // Time spent (the caller holds the map lock throughout): the essential graph's optimisation, all.
+  double graph_ms = 0, total_ms = 0;
 };
 
+// in_map: the KeyFrames of the map being corrected (unset: every KeyFrame).
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
-                                  const LoopCorrectionParams& params = {});
+                                  const LoopCorrectionParams& params = {},
+                                  const std::function<bool(uint32_t kf_id)>& in_map = {});
 
 }  // namespace edge_slam

@@ -2,6 +2,7 @@
 // local BA after each keyframe and the full BA after a loop closure. Building and applying
 // need Map::update_mutex() held by the caller; the solve in between does not.
 #pragma once
+#include <functional>
 #include <cstddef>
 #include <memory>
 #include <unordered_set>
@@ -31,7 +32,9 @@ BundleAdjustmentProblem build_local_ba_problem(const Map& map, const KeyFrame& k
                                                const LocalBaWindow& window = {});
 
 // Every good keyframe (the root fixed) and point of the map.
-BundleAdjustmentProblem build_full_ba_problem(const Map& map);
+// in_map: the KeyFrames to adjust (unset: all), e.g. one robot's map of several; points enter
+// with their observations in those KeyFrames (none: left out).
+BundleAdjustmentProblem build_full_ba_problem(const Map& map, const std::function<bool(uint32_t kf_id)>& in_map = {});
 
 struct BaApplyStats {
   int keyframes = 0, points = 0, erased_observations = 0;

@@ -14,6 +14,7 @@ struct ModuleFigures {
   bool has_mapping = false, has_loop_closing = false;
   LocalMappingStats mapping;
   std::vector<double> local_mapping_ms, local_ba_ms, loop_detection_ms, loop_correction_ms, full_ba_ms;
+  std::vector<double> loop_correction_graph_ms;  // the essential graph part of each correction
   int full_ba_runs = 0, loops_closed = 0;
   std::vector<LoopEvent> loops;
 };
