@@ -245,6 +245,8 @@ TEST(LoopClosing, ALoopInOneRobotsMapLeavesTheOtherRobotsMapWhereItIs) {
   EXPECT_EQ(loop.loops()[0].correction.graph_keyframes, kKeyFrames);  // robot 0's ring only
   EXPECT_EQ(loop.full_ba_runs(), 1);
   EXPECT_LT(position_error(*ring.kfs.back(), kKeyFrames - 1), 0.1 * before_last);  // the ring is corrected
+  ASSERT_EQ(loop.correction_locked_times_ms().size(), 1u);
+  EXPECT_LE(loop.correction_locked_times_ms()[0], loop.correction_times_ms()[0]);
   for (size_t i = 0; i < other.size(); ++i)
     EXPECT_TRUE(other[i]->T_cw().isApprox(other_poses[i], 0.0)) << "robot 1's KeyFrame " << other[i]->id() << " moved";
   for (const auto& [id, position] : other_positions)

@@ -148,8 +148,10 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
   LoopCorrectionReport report;
+  double locked_ms = 0;  // how long the other robots' mapping and KeyFrame arrivals wait on the map lock
   {
     std::lock_guard<std::mutex> lock(map_->update_mutex());
+    const Stopwatch locked;
     if (on_map_moved) on_map_moved();
     if (merge) {
       // T_cw_corrected is the current camera seen from the loop side.
@@ -165,6 +167,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     if (group_of) in_map = [this, corrected_map](uint32_t id) { return group_of(id) == corrected_map; };
     report = correct_loop(*map_, kf, match, params_.correction, in_map);
     if (on_map_moved) on_map_moved();
+    locked_ms = locked.ms();
   }
   if (local_mapping_) local_mapping_->release(maps);
   if (report.group_keyframes == 0 && !merge) {
@@ -184,6 +187,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     else
       loops_.push_back(LoopEvent{kf->id(), match.loop_kf->id(), match.num_matches, report});
     correct_ms_.push_back(t1.ms());
+    correct_locked_ms_.push_back(locked_ms);
   }
   start_full_ba(kf->id(), merge ? into : current_group);
   return true;
@@ -289,6 +293,10 @@ std::vector<double> LoopClosing::detection_times_ms() const {
 std::vector<double> LoopClosing::correction_times_ms() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   return correct_ms_;
+}
+std::vector<double> LoopClosing::correction_locked_times_ms() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return correct_locked_ms_;
 }
 std::vector<double> LoopClosing::full_ba_times_ms() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);

@@ -91,7 +91,8 @@ class LoopClosing {
   std::vector<MergeEvent> merges() const;
   int full_ba_runs() const;
   std::vector<double> detection_times_ms() const;   // detection + verification per keyframe
-  std::vector<double> correction_times_ms() const;
+  std::vector<double> correction_times_ms() const;         // pause + correction, per loop or merge
+  std::vector<double> correction_locked_times_ms() const;  // of which under the Global-Map's lock
   std::vector<double> full_ba_times_ms() const;
 
  private:
@@ -132,7 +133,7 @@ class LoopClosing {
   std::vector<MergeEvent> merges_;
   uint64_t merge_passes_ = 0;
   int full_ba_runs_ = 0;
-  std::vector<double> detect_ms_, correct_ms_, full_ba_ms_;
+  std::vector<double> detect_ms_, correct_ms_, correct_locked_ms_, full_ba_ms_;
 };
 
 }  // namespace edge_slam
