@@ -88,7 +88,7 @@ bool LocalMapping::wait_until_stopped(double timeout_s) const {
   if (!running_) return true;
   std::unique_lock<std::mutex> lock(pause_mutex_);
   return pause_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s),
-                            [&] { return !running_ || !(processing_ && held_back_locked(processing_map_)); });
+                            [&] { return finished_ || !(processing_ && held_back_locked(processing_map_)); });
 }
 
 void LocalMapping::release(const std::vector<int>& maps) {
@@ -184,8 +184,11 @@ void LocalMapping::run() {
     ++completed_;
     if (!new_keyframes_waiting() && held_.empty()) set_idle(true);
   }
-  running_ = false;
-  pause_cv_.notify_all();  // a finished mapper counts as stopped for waiters
+  {
+    std::lock_guard<std::mutex> lock(pause_mutex_);
+    finished_ = true;  // a finished mapper counts as stopped for waiters
+  }
+  pause_cv_.notify_all();
   set_idle(true);
 }
 

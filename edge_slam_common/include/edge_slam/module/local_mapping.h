@@ -70,7 +70,9 @@ class LocalMapping {
   // Synchronous processing of one keyframe (what the thread does per keyframe; tests).
   void process_keyframe(const std::shared_ptr<KeyFrame>& kf);
 
-  bool idle() const { return idle_; }  // nothing queued and nothing being processed
+  // Nothing queued, held back or being processed. A KeyFrame held back by a pause keeps it busy:
+  // condition 2 paces every robot on the one Local-Mapping (module/edge_keyframe_decision.h).
+  bool idle() const { return idle_; }
   size_t queued() const { return queue_.size(); }
   // Waits (bounded) until every KeyFrame inserted so far has been processed.
   bool wait_until_idle(double timeout_s) const;
@@ -138,6 +140,7 @@ class LocalMapping {
   mutable std::mutex pause_mutex_;
   mutable std::condition_variable pause_cv_;
   std::multiset<int> paused_maps_;     // one entry per map per request in force
+  bool finished_ = false;              // the thread has left its loop (shutdown)
   bool processing_ = false;            // a KeyFrame is being mapped ...
   int processing_map_ = 0;             // ... of this map
   std::deque<std::shared_ptr<KeyFrame>> held_;  // popped while their map was paused; mapping thread only
