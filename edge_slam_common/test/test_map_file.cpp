@@ -130,8 +130,8 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
   bytes[0] = 'X';
   expect_refused(bytes, "magic");
   bytes = good;
-  bytes[8] = 4;
-  expect_refused(bytes, "version 4");
+  bytes[8] = 5;
+  expect_refused(bytes, "version 5");
   bytes = good;
   bytes[good.size() / 2] ^= 0x40;
   expect_refused(bytes, "checksum");
@@ -156,8 +156,9 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
 TEST(MapFile, AVersionOneFileIsStillRead) {
   const SavedMap a;
   std::vector<uint8_t> bytes = encode_map_file(snapshot_map(a.map));
-  // Version 1 had no several-robot tail nor merge history (four zero counts with one robot): drop them.
-  bytes.resize(bytes.size() - 16);
+  // Version 1 had no several-robot tail, merge history nor loop detector history (six zero
+  // counts with one robot): drop them.
+  bytes.resize(bytes.size() - 24);
   bytes[8] = 1;
   const uint64_t payload = bytes.size() - 32;
   std::memcpy(bytes.data() + 16, &payload, 8);
@@ -174,7 +175,7 @@ TEST(MapFile, AVersionTwoFileIsReadWithoutAMergeHistory) {
   saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, Eigen::Isometry3d::Identity()}};
   saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
   std::vector<uint8_t> bytes = encode_map_file(saved);
-  bytes.resize(bytes.size() - 4);  // version 2 ended with the groups: no merge count
+  bytes.resize(bytes.size() - 12);  // version 2 ended with the groups: no merge nor loop detector counts
   bytes[8] = 2;
   const uint64_t payload = bytes.size() - 32;
   std::memcpy(bytes.data() + 16, &payload, 8);
@@ -183,6 +184,58 @@ TEST(MapFile, AVersionTwoFileIsReadWithoutAMergeHistory) {
   EXPECT_EQ(loaded.robots.size(), 2u);
   EXPECT_EQ(loaded.groups.size(), 2u);
   EXPECT_TRUE(loaded.merges.empty());
+}
+
+TEST(MapFile, AVersionThreeFileIsReadWithoutALoopDetectorHistory) {
+  const SavedMap a;
+  MapSnapshot saved = snapshot_map(a.map);
+  saved.loop_groups = {LoopGroupRecord{0, 2, {1, 2}}};
+  std::vector<uint8_t> bytes = encode_map_file(saved);
+  bytes.resize(bytes.size() - 4 - (4 + 4 + 4 + 8) - 4);  // version 3 ended with the merges
+  bytes[8] = 3;
+  const uint64_t payload = bytes.size() - 32;
+  std::memcpy(bytes.data() + 16, &payload, 8);
+  reseal(bytes);
+  const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v3.esmap");
+  EXPECT_EQ(loaded.content.keyframes.size(), 6u);
+  EXPECT_TRUE(loaded.loop_groups.empty());
+  EXPECT_TRUE(loaded.loop_robots.empty());
+}
+
+TEST(MapFile, TheLoopDetectorHistoryRoundTripsAndIsChecked) {
+  const SavedMap a;
+  MapSnapshot saved = snapshot_map(a.map);
+  saved.robots = {RobotMapSection{5, {1}, {1}}, RobotMapSection{9, {16777216}, {16777216}}};
+  saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 1, Eigen::Isometry3d::Identity()}};
+  saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, false}};
+  saved.loop_groups = {LoopGroupRecord{0, 2, {3, 4, 5}}, LoopGroupRecord{1, 0, {16777217}}};
+  saved.loop_robots = {LoopRobotRecord{0, 40u, 31u}, LoopRobotRecord{1, 16777230u, std::nullopt}};
+  const std::vector<uint8_t> good = encode_map_file(saved);
+  const MapSnapshot loaded = decode_map_file(good.data(), good.size(), "test.esmap");
+  ASSERT_EQ(loaded.loop_groups.size(), 2u);
+  EXPECT_EQ(loaded.loop_groups[0].robot, 0u);
+  EXPECT_EQ(loaded.loop_groups[0].consistency, 2);
+  EXPECT_EQ(loaded.loop_groups[0].members, (std::vector<uint32_t>{3, 4, 5}));
+  EXPECT_EQ(loaded.loop_groups[1].robot, 1u);
+  EXPECT_EQ(loaded.loop_groups[1].members, (std::vector<uint32_t>{16777217}));
+  ASSERT_EQ(loaded.loop_robots.size(), 2u);
+  EXPECT_EQ(loaded.loop_robots[0].newest_keyframe, std::optional<uint32_t>(40));
+  EXPECT_EQ(loaded.loop_robots[0].last_loop_keyframe, std::optional<uint32_t>(31));
+  EXPECT_EQ(loaded.loop_robots[1].newest_keyframe, std::optional<uint32_t>(16777230));
+  EXPECT_FALSE(loaded.loop_robots[1].last_loop_keyframe);
+
+  MapSnapshot bad = saved;
+  bad.loop_groups[1].robot = 2;  // the file has robots 0 and 1
+  expect_refused(encode_map_file(bad), "loop candidate group names robot 2");
+  bad = saved;
+  bad.loop_groups[0].consistency = -1;
+  expect_refused(encode_map_file(bad), "consistency -1");
+  bad = saved;
+  bad.loop_robots[1].robot = 7;
+  expect_refused(encode_map_file(bad), "loop detector names robot 7");
+  bad = snapshot_map(a.map);  // one robot: robot 0 only
+  bad.loop_robots = {LoopRobotRecord{1, 3u, std::nullopt}};
+  expect_refused(encode_map_file(bad), "loop detector names robot 1 of 1");
 }
 
 TEST(MapFile, SeveralRobotsSectionsRoundTripAndAreChecked) {

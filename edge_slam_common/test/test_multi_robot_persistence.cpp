@@ -3,6 +3,8 @@
 //   - save / load round trip on two robots whose maps merged: same Global-Map, same placement of
 //     robot 1 in the world, same accounting and received seq per robot; a resent KeyFrame is a
 //     duplicate for its own robot; robot 1's updates still come in robot 1's frame;
+//   - the loop detector's history (each robot's pause after the merge, its candidate groups)
+//     survives the restart: a restored edge saves the same history again;
 //   - a file of another number of robots is refused and the map kept;
 //   - EdgeDurability: a checkpoint makes each robot's own seqs durable; a restore acknowledges
 //     each robot its own durable seq under a new boot id.
@@ -11,6 +13,7 @@
 
 #include <cstdio>
 
+#include "edge_slam/io/map_file.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/split/edge_durability.h"
 #include "edge_slam/util/robot_ids.h"
@@ -76,9 +79,32 @@ TEST(MultiRobotPersistence, ARestoredEdgeHasEveryRobotsMapDeliveriesAndPlacement
   EXPECT_EQ(durable[1], before.counters(1).received_seq);
   EXPECT_GT(durable[1], 0u);
 
+  const MapSnapshot saved = read_map_file(file);
+  // The merge was a loop for the detector: each robot waits for min_keyframes_after_loop more.
+  ASSERT_EQ(saved.loop_robots.size(), 2u);
+  for (const LoopRobotRecord& r : saved.loop_robots) EXPECT_TRUE(r.last_loop_keyframe) << "robot " << r.robot;
+
   EdgeSession after = make_edge();
   after.load_map(file);
   std::remove(file.c_str());
+  {  // Saved again at once, the restored edge writes the same detector history.
+    const std::string again = temp_path("merged_again.esmap");
+    after.save_map(again);
+    const MapSnapshot resaved = read_map_file(again);
+    std::remove(again.c_str());
+    ASSERT_EQ(resaved.loop_robots.size(), saved.loop_robots.size());
+    for (size_t i = 0; i < saved.loop_robots.size(); ++i) {
+      EXPECT_EQ(resaved.loop_robots[i].robot, saved.loop_robots[i].robot);
+      EXPECT_EQ(resaved.loop_robots[i].newest_keyframe, saved.loop_robots[i].newest_keyframe);
+      EXPECT_EQ(resaved.loop_robots[i].last_loop_keyframe, saved.loop_robots[i].last_loop_keyframe);
+    }
+    ASSERT_EQ(resaved.loop_groups.size(), saved.loop_groups.size());
+    for (size_t i = 0; i < saved.loop_groups.size(); ++i) {
+      EXPECT_EQ(resaved.loop_groups[i].robot, saved.loop_groups[i].robot);
+      EXPECT_EQ(resaved.loop_groups[i].consistency, saved.loop_groups[i].consistency);
+      EXPECT_EQ(resaved.loop_groups[i].members, saved.loop_groups[i].members);
+    }
+  }
   EXPECT_EQ(after.global_map()->num_keyframes(), before.global_map()->num_keyframes());
   EXPECT_EQ(after.global_map()->num_map_points(), before.global_map()->num_map_points());
   for (int r = 0; r < 2; ++r) {

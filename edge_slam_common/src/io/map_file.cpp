@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -190,6 +191,55 @@ void get_merges(ByteReader& in, MapSnapshot& s) {
         throw std::runtime_error("a merge names group " + std::to_string(g) + " of " + std::to_string(s.groups.size()));
 }
 
+// Version 4's tail: the loop detector's history, each robot named as in the other sections.
+void put_loop_detector(ByteWriter& w, const MapSnapshot& s) {
+  w.put(static_cast<uint32_t>(s.loop_groups.size()));
+  for (const LoopGroupRecord& g : s.loop_groups) {
+    w.put(g.robot);
+    w.put(g.consistency);
+    put_ids(w, g.members);
+  }
+  w.put(static_cast<uint32_t>(s.loop_robots.size()));
+  for (const LoopRobotRecord& r : s.loop_robots) {
+    w.put(r.robot);
+    for (const std::optional<uint32_t>& id : {r.newest_keyframe, r.last_loop_keyframe}) {
+      w.put(static_cast<uint8_t>(id ? 1 : 0));
+      w.put(id.value_or(0));
+    }
+  }
+}
+
+void get_loop_detector(ByteReader& in, MapSnapshot& s) {
+  s.loop_groups.resize(in.count(4 + 4 + 4, "loop candidate group"));
+  for (LoopGroupRecord& g : s.loop_groups) {
+    g.robot = in.get<uint32_t>("loop group robot");
+    g.consistency = in.get<int32_t>("loop group consistency");
+    get_ids(in, g.members);
+  }
+  s.loop_robots.resize(in.count(4 + 2 * (1 + 4), "loop detector robot"));
+  for (LoopRobotRecord& r : s.loop_robots) {
+    r.robot = in.get<uint32_t>("loop detector robot");
+    for (std::optional<uint32_t>* id : {&r.newest_keyframe, &r.last_loop_keyframe}) {
+      const bool set = in.get<uint8_t>("loop detector KeyFrame flag") != 0;
+      const uint32_t value = in.get<uint32_t>("loop detector KeyFrame");
+      if (set) *id = value;
+    }
+  }
+  // Each names a robot of the file (one robot: robot 0), and a count is never negative.
+  const size_t robots = std::max<size_t>(1, s.robots.size());
+  for (const LoopGroupRecord& g : s.loop_groups) {
+    if (g.robot >= robots)
+      throw std::runtime_error("a loop candidate group names robot " + std::to_string(g.robot) + " of " +
+                               std::to_string(robots));
+    if (g.consistency < 0)
+      throw std::runtime_error("a loop candidate group has consistency " + std::to_string(g.consistency));
+  }
+  for (const LoopRobotRecord& r : s.loop_robots)
+    if (r.robot >= robots)
+      throw std::runtime_error("the loop detector names robot " + std::to_string(r.robot) + " of " +
+                               std::to_string(robots));
+}
+
 // Version 2's tail: the several-robot sections (counts 0 with one robot).
 void put_robot_sections(ByteWriter& w, const MapSnapshot& s) {
   w.put(static_cast<uint32_t>(s.robots.size()));
@@ -273,6 +323,7 @@ std::vector<uint8_t> encode_map_file(const MapSnapshot& s) {
     put_ids(w, *ids);
   put_robot_sections(w, s);
   put_merges(w, s);
+  put_loop_detector(w, s);
   std::vector<uint8_t>& bytes = w.bytes();
   const uint64_t payload = bytes.size() - kHeaderBytes;
   const uint64_t checksum = fnv1a64(bytes.data() + kHeaderBytes, payload);
@@ -315,6 +366,7 @@ MapSnapshot decode_map_file(const uint8_t* data, size_t size, const std::string&
       get_ids(in, *ids);
     if (version >= 2) get_robot_sections(in, s);
     if (version >= 3) get_merges(in, s);
+    if (version >= 4) get_loop_detector(in, s);
     if (in.remaining() != 0) throw std::runtime_error(std::to_string(in.remaining()) + " unread payload bytes");
   } catch (const std::runtime_error& e) {
     fail(origin, e.what());

@@ -484,8 +484,16 @@ std::vector<uint64_t> EdgeSession::save_map(const std::string& path) const {
   std::vector<uint64_t> durable;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    // The detector's history before the map's update mutex: detection holds the detector's lock
+    // while it reads the map, so it is not taken under the map's. A KeyFrame detected in between
+    // is harmless (ids only).
+    std::vector<LoopGroupRecord> loop_groups;
+    std::vector<LoopRobotRecord> loop_robots;
+    if (modules_ && modules_->loop()) modules_->loop()->save_detector_to(loop_groups, loop_robots);
     std::lock_guard<std::mutex> map_lock(map_->update_mutex());
     snapshot = snapshot_map(*map_);
+    snapshot.loop_groups = std::move(loop_groups);
+    snapshot.loop_robots = std::move(loop_robots);
     for (const RobotState& rs : robots_) {
       // The contiguous seq, not the highest: a restored edge must not claim the gaps.
       RobotMapSection section{rs.receipts.contiguous(), {rs.seen_ids.begin(), rs.seen_ids.end()}, rs.inserted_ids};
@@ -555,6 +563,8 @@ void EdgeSession::load_map(const std::string& path) {
     culled_links_.clear();  // not in the map file: their frames go through the mobile's chain
   }
   start_modules();
+  // Under mutex_, so no KeyFrame reaches the new loop thread before its history is back.
+  if (modules_->loop()) modules_->loop()->restore_detector(snapshot.loop_groups, snapshot.loop_robots);
 }
 
 // The restored KeyFrames of the robot and every id it sent before the save count as received:

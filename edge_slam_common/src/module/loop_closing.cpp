@@ -95,13 +95,28 @@ void LoopClosing::stop_full_bas(const std::vector<int>& maps) {
   }
 }
 
+void LoopClosing::save_detector_to(std::vector<LoopGroupRecord>& groups, std::vector<LoopRobotRecord>& robots) const {
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  detector_.save_to(groups, robots);
+}
+
+void LoopClosing::restore_detector(const std::vector<LoopGroupRecord>& groups,
+                                   const std::vector<LoopRobotRecord>& robots) {
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  detector_.restore(groups, robots);
+}
+
 bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   const Stopwatch t0;
   if (!kf || kf->is_bad() || !map_->keyframe(kf->id())) return false;
-  const auto candidates = detector_.detect(*map_, *database_, kf);
-  if (debug_) {
-    log_info(log_text("[loop] KF ", kf->id(), ": min score ", detector_.last_min_score(), ", ",
-        detector_.last_raw_candidates(), " raw candidate(s), ", candidates.size(), " consistent"));
+  std::vector<std::shared_ptr<KeyFrame>> candidates;
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    candidates = detector_.detect(*map_, *database_, kf);
+    if (debug_) {
+      log_info(log_text("[loop] KF ", kf->id(), ": min score ", detector_.last_min_score(), ", ",
+          detector_.last_raw_candidates(), " raw candidate(s), ", candidates.size(), " consistent"));
+    }
   }
   LoopMatch match;
   std::string why;
@@ -174,7 +189,10 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     log_info(log_text("[loop] KF ", kf->id(), " <-> KF ", match.loop_kf->id(), " not corrected: ", report.message));
     return false;
   }
-  detector_.set_last_loop_keyframe(kf->id());
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    detector_.set_last_loop_keyframe(kf->id());
+  }
   log_info(log_text("[loop] ", (merge ? "maps merged" : "loop closed"), ": KF ", kf->id(), " <-> KF ",
       match.loop_kf->id(), ", ", match.num_matches, " matches (", report.group_keyframes, " KFs corrected, ",
       report.fused_points, " points fused, ", report.new_loop_links, " new links, ", report.message, ", cost ",

@@ -84,4 +84,31 @@ void LoopDetector::set_last_loop_keyframe(uint32_t kf_id) {
   last_loop_kf_ids_[robot_of_keyframe(kf_id)] = kf_id;
 }
 
+void LoopDetector::save_to(std::vector<LoopGroupRecord>& groups, std::vector<LoopRobotRecord>& robots) const {
+  groups.clear();
+  robots.clear();
+  for (const auto& [robot, list] : groups_)
+    for (const Group& g : list)
+      groups.push_back(LoopGroupRecord{static_cast<uint32_t>(robot), g.consistency, {g.members.begin(), g.members.end()}});
+  std::map<int, LoopRobotRecord> by_robot;
+  for (const auto& [robot, newest] : newest_kf_ids_) by_robot[robot].newest_keyframe = newest;
+  for (const auto& [robot, last] : last_loop_kf_ids_) by_robot[robot].last_loop_keyframe = last;
+  for (auto& [robot, r] : by_robot) {
+    r.robot = static_cast<uint32_t>(robot);
+    robots.push_back(r);
+  }
+}
+
+void LoopDetector::restore(const std::vector<LoopGroupRecord>& groups, const std::vector<LoopRobotRecord>& robots) {
+  groups_.clear();
+  newest_kf_ids_.clear();
+  last_loop_kf_ids_.clear();
+  for (const LoopGroupRecord& g : groups)
+    groups_[static_cast<int>(g.robot)].push_back(Group{{g.members.begin(), g.members.end()}, g.consistency});
+  for (const LoopRobotRecord& r : robots) {
+    if (r.newest_keyframe) newest_kf_ids_[static_cast<int>(r.robot)] = *r.newest_keyframe;
+    if (r.last_loop_keyframe) last_loop_kf_ids_[static_cast<int>(r.robot)] = *r.last_loop_keyframe;
+  }
+}
+
 }  // namespace edge_slam

@@ -4,7 +4,8 @@
 // features, descriptors, observations, parent, covisibility weights and loop edges; map
 // points; the KeyFrame accounting; since version 2, with several mobiles, each robot's
 // deliveries and accounting and where each of its maps sits (module/robot_frames.h); since
-// version 3, the merges of their maps so far). Versions 1 (one robot) and 2 are still read.
+// version 3, the merges of their maps so far; since version 4, the loop detector's history).
+// Versions 1 (one robot), 2 and 3 are still read.
 // Writing goes to a temporary file in the same folder which is then renamed over the target, so
 // a crash mid-write leaves the previous file intact.
 #pragma once
@@ -20,7 +21,8 @@
 
 namespace edge_slam {
 
-inline constexpr uint32_t kMapFileVersion = 3;  // 2: the several-robot sections; 3: the merge history (1, 2 still read)
+// 2: the several-robot sections; 3: the merge history; 4: the loop detector's history (1-3 still read)
+inline constexpr uint32_t kMapFileVersion = 4;
 
 // One robot's deliveries on an edge serving several mobiles: as MapSnapshot's own fields are
 // for the one robot.
@@ -52,6 +54,21 @@ struct MapMergeRecord {
   Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
 };
 
+// The loop detector's history (module/loop_detector.h), so that a restored edge neither forgets
+// a run of consistent detections it was about to close a loop with nor closes one right after
+// the last: robot `robot`'s candidate groups, each with its consistency count ...
+struct LoopGroupRecord {
+  uint32_t robot = 0;
+  int32_t consistency = 0;
+  std::vector<uint32_t> members;  // KeyFrame ids
+};
+// ... and, per robot, its newest KeyFrame seen by the detector and its newest at the last loop
+// (no detection until min_keyframes_after_loop more of its own).
+struct LoopRobotRecord {
+  uint32_t robot = 0;
+  std::optional<uint32_t> newest_keyframe, last_loop_keyframe;
+};
+
 struct MapSnapshot {
   // Every KeyFrame (observations of all its points, parent, covisibility weights) and every
   // map point; checked on load like a Local-Map update (io/record_checks.h).
@@ -68,6 +85,8 @@ struct MapSnapshot {
   std::vector<MapEpochRecord> epochs;
   std::vector<MapGroupRecord> groups;
   std::vector<MapMergeRecord> merges;  // oldest first
+  std::vector<LoopGroupRecord> loop_groups;  // robots: 0 with one robot, else an index of `robots`
+  std::vector<LoopRobotRecord> loop_robots;
 };
 
 std::vector<uint8_t> encode_map_file(const MapSnapshot& snapshot);

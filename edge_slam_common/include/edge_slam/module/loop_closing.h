@@ -86,6 +86,11 @@ class LoopClosing {
   // Waits (bounded) for the queue to drain and a full BA to finish.
   bool wait_until_idle(double timeout_s) const;
 
+  // The loop detector's history for the edge's map file, and its restoration (before any
+  // KeyFrame of the restored map is processed). Safe beside the loop thread.
+  void save_detector_to(std::vector<LoopGroupRecord>& groups, std::vector<LoopRobotRecord>& robots) const;
+  void restore_detector(const std::vector<LoopGroupRecord>& groups, const std::vector<LoopRobotRecord>& robots);
+
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
   std::vector<MergeEvent> merges() const;
@@ -115,6 +120,9 @@ class LoopClosing {
   std::shared_ptr<KeyFrameDatabase> database_;
   LocalMapping* local_mapping_;
   LoopClosingParams params_;
+  // The loop thread's detection against a save; held while the detector reads the map and the
+  // database (their own data locks, never the map's update mutex): never take it under a map lock.
+  mutable std::mutex detector_mutex_;
   LoopDetector detector_;
   BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
   std::thread thread_;

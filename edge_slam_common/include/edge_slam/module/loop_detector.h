@@ -11,6 +11,7 @@
 #include "edge_slam/data/keyframe.h"
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map.h"
+#include "edge_slam/io/map_file.h"
 
 namespace edge_slam {
 
@@ -28,6 +29,11 @@ class LoopDetector {
                                                 const std::shared_ptr<KeyFrame>& kf);
   // No detection for the next min_keyframes_after_loop KeyFrames of each robot.
   void set_last_loop_keyframe(uint32_t kf_id);
+  // The detection history for the edge's map file: each robot's run of consistent candidate
+  // groups and its pause after the last loop. restore() replaces the history with a saved one, so
+  // a restored edge closes the loop it was about to close, and not one right after the last.
+  void save_to(std::vector<LoopGroupRecord>& groups, std::vector<LoopRobotRecord>& robots) const;
+  void restore(const std::vector<LoopGroupRecord>& groups, const std::vector<LoopRobotRecord>& robots);
   double last_min_score() const { return last_min_score_; }
   size_t last_raw_candidates() const { return last_raw_candidates_; }
 
