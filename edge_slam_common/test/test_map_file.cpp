@@ -116,6 +116,17 @@ void reseal(std::vector<uint8_t>& bytes) {
   std::memcpy(bytes.data() + 24, &h, 8);
 }
 
+// The file an older version wrote: the current encoding without the tail bytes that version did
+// not have, labelled with its version number (payload size and checksum made to match).
+MapSnapshot decode_as_version(std::vector<uint8_t> bytes, uint32_t version, size_t tail_bytes) {
+  bytes.resize(bytes.size() - tail_bytes);
+  bytes[8] = static_cast<uint8_t>(version);
+  const uint64_t payload = bytes.size() - 32;
+  std::memcpy(bytes.data() + 16, &payload, 8);
+  reseal(bytes);
+  return decode_map_file(bytes.data(), bytes.size(), "v" + std::to_string(version) + ".esmap");
+}
+
 TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
   const SavedMap a;
   const std::vector<uint8_t> good = encode_map_file(snapshot_map(a.map));
@@ -155,15 +166,9 @@ TEST(MapFile, CorruptTruncatedAndWrongVersionFilesAreRefused) {
 
 TEST(MapFile, AVersionOneFileIsStillRead) {
   const SavedMap a;
-  std::vector<uint8_t> bytes = encode_map_file(snapshot_map(a.map));
   // Version 1 had no several-robot tail, merge history nor loop detector history (six zero
-  // counts with one robot): drop them.
-  bytes.resize(bytes.size() - 24);
-  bytes[8] = 1;
-  const uint64_t payload = bytes.size() - 32;
-  std::memcpy(bytes.data() + 16, &payload, 8);
-  reseal(bytes);
-  const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v1.esmap");
+  // counts with one robot).
+  const MapSnapshot loaded = decode_as_version(encode_map_file(snapshot_map(a.map)), 1, 6 * 4);
   EXPECT_EQ(loaded.content.keyframes.size(), 6u);
   EXPECT_TRUE(loaded.robots.empty());
 }
@@ -174,13 +179,8 @@ TEST(MapFile, AVersionTwoFileIsReadWithoutAMergeHistory) {
   saved.robots = {RobotMapSection{5, {1}, {1}}, RobotMapSection{9, {16777216}, {16777216}}};
   saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, Eigen::Isometry3d::Identity()}};
   saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
-  std::vector<uint8_t> bytes = encode_map_file(saved);
-  bytes.resize(bytes.size() - 12);  // version 2 ended with the groups: no merge nor loop detector counts
-  bytes[8] = 2;
-  const uint64_t payload = bytes.size() - 32;
-  std::memcpy(bytes.data() + 16, &payload, 8);
-  reseal(bytes);
-  const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v2.esmap");
+  // Version 2 ended with the groups: no merge nor loop detector counts.
+  const MapSnapshot loaded = decode_as_version(encode_map_file(saved), 2, 3 * 4);
   EXPECT_EQ(loaded.robots.size(), 2u);
   EXPECT_EQ(loaded.groups.size(), 2u);
   EXPECT_TRUE(loaded.merges.empty());
@@ -190,13 +190,9 @@ TEST(MapFile, AVersionThreeFileIsReadWithoutALoopDetectorHistory) {
   const SavedMap a;
   MapSnapshot saved = snapshot_map(a.map);
   saved.loop_groups = {LoopGroupRecord{0, 2, {1, 2}}};
-  std::vector<uint8_t> bytes = encode_map_file(saved);
-  bytes.resize(bytes.size() - 4 - (4 + 4 + 4 + 8) - 4);  // version 3 ended with the merges
-  bytes[8] = 3;
-  const uint64_t payload = bytes.size() - 32;
-  std::memcpy(bytes.data() + 16, &payload, 8);
-  reseal(bytes);
-  const MapSnapshot loaded = decode_map_file(bytes.data(), bytes.size(), "v3.esmap");
+  // Version 3 ended with the merges: no loop detector history (the group count, the group with
+  // its two members, the robot count).
+  const MapSnapshot loaded = decode_as_version(encode_map_file(saved), 3, 4 + (4 + 4 + 4 + 2 * 4) + 4);
   EXPECT_EQ(loaded.content.keyframes.size(), 6u);
   EXPECT_TRUE(loaded.loop_groups.empty());
   EXPECT_TRUE(loaded.loop_robots.empty());
