@@ -252,3 +252,35 @@ TEST(LoopClosing, ALoopInOneRobotsMapLeavesTheOtherRobotsMapWhereItIs) {
   for (const auto& [id, position] : other_positions)
     EXPECT_EQ(ring.map->map_point(id)->position(), position) << "robot 1's point " << id << " moved";
 }
+
+// After a loop or merge, the robots working in that map wait min_keyframes_after_loop KeyFrames
+// of their own before the next detection; a robot in another map does not (fr1 in three parts:
+// robots 2 and 3 merged while robot 1's last KeyFrames, the ones that would have merged it, were
+// held back). Robot k's KeyFrame ids start at k << 24 (util/robot_ids.h).
+TEST(LoopDetector, ALoopHoldsBackTheRobotsInItsMapOnly) {
+  const uint32_t robot1 = 1u << 24, robot2 = 2u << 24;
+  LoopDetector detector;
+  // Each robot's newest KeyFrame as detect() would have seen it.
+  detector.restore({}, {LoopRobotRecord{0, 40u, std::nullopt}, LoopRobotRecord{1, robot1 + 30, std::nullopt},
+                        LoopRobotRecord{2, robot2 + 20, std::nullopt}});
+  // Robots 1 and 2 share a map (just merged); robot 0 is alone in its own.
+  const auto map_of = [&](uint32_t id) { return id >= robot1 ? 1 : 0; };
+  detector.set_last_loop_keyframe(robot2 + 20, map_of);
+
+  std::vector<LoopGroupRecord> groups;
+  std::vector<LoopRobotRecord> robots;
+  detector.save_to(groups, robots);
+  ASSERT_EQ(robots.size(), 3u);
+  EXPECT_FALSE(robots[0].last_loop_keyframe) << "robot 0, in another map, is not held back";
+  EXPECT_EQ(robots[1].last_loop_keyframe, std::optional<uint32_t>(robot1 + 30));
+  EXPECT_EQ(robots[2].last_loop_keyframe, std::optional<uint32_t>(robot2 + 20));
+
+  // Without a map test (one robot, or a caller that knows no maps): every robot waits.
+  LoopDetector everyone;
+  everyone.restore({}, {LoopRobotRecord{0, 40u, std::nullopt}, LoopRobotRecord{1, robot1 + 30, std::nullopt}});
+  everyone.set_last_loop_keyframe(robot1 + 30);
+  everyone.save_to(groups, robots);
+  ASSERT_EQ(robots.size(), 2u);
+  EXPECT_EQ(robots[0].last_loop_keyframe, std::optional<uint32_t>(40));
+}
+

@@ -191,7 +191,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
-    detector_.set_last_loop_keyframe(kf->id());
+    detector_.set_last_loop_keyframe(kf->id(), group_of);  // after a merge: both robots' map
   }
   log_info(log_text("[loop] ", (merge ? "maps merged" : "loop closed"), ": KF ", kf->id(), " <-> KF ",
       match.loop_kf->id(), ", ", match.num_matches, " matches (", report.group_keyframes, " KFs corrected, ",

@@ -76,11 +76,17 @@ std::vector<std::shared_ptr<KeyFrame>> LoopDetector::detect(const Map& map, cons
   return consistent;
 }
 
-// Every robot waits for min_keyframes_after_loop KeyFrames of its own after a loop, whoever
-// closed it: one map's loops then come no faster than with one robot (each loop's full BA gets
-// the time to finish instead of being aborted by the next robot's loop a KeyFrame later).
-void LoopDetector::set_last_loop_keyframe(uint32_t kf_id) {
-  for (const auto& [robot, newest] : newest_kf_ids_) last_loop_kf_ids_[robot] = newest;
+// Every robot working in the loop's map waits for min_keyframes_after_loop KeyFrames of its own
+// after the loop, whoever closed it: that map's loops then come no faster than with one robot
+// (its full BA gets the time to finish instead of being aborted by the next robot's loop a
+// KeyFrame later). A robot in another map is not held: a loop there neither aborts this map's
+// full BA nor is aborted by it (module/loop_closing.h), and its own merge may be due (fr1 in
+// three parts: a merge of robots 2 and 3 held robot 1 over the last KeyFrames of its part, the
+// ones that would have merged it).
+void LoopDetector::set_last_loop_keyframe(uint32_t kf_id, const std::function<int(uint32_t kf_id)>& map_of) {
+  const int loop_map = map_of ? map_of(kf_id) : 0;
+  for (const auto& [robot, newest] : newest_kf_ids_)
+    if (!map_of || map_of(newest) == loop_map) last_loop_kf_ids_[robot] = newest;
   last_loop_kf_ids_[robot_of_keyframe(kf_id)] = kf_id;
 }
 

@@ -3,6 +3,7 @@
 // covisible group must overlap the groups of the previous detections `consistency` times in
 // a row before it is handed on for geometric verification.
 #pragma once
+#include <functional>
 #include <memory>
 #include <map>
 #include <set>
@@ -27,8 +28,10 @@ class LoopDetector {
   // Consistent candidates for `kf` (empty most of the time). Updates the group history.
   std::vector<std::shared_ptr<KeyFrame>> detect(const Map& map, const KeyFrameDatabase& database,
                                                 const std::shared_ptr<KeyFrame>& kf);
-  // No detection for the next min_keyframes_after_loop KeyFrames of each robot.
-  void set_last_loop_keyframe(uint32_t kf_id);
+  // No loop detection for the next min_keyframes_after_loop KeyFrames of each robot working in
+  // the loop's map: the robot of kf_id, and every other robot whose newest KeyFrame is in that
+  // map by map_of (unset: every robot; one robot: one map).
+  void set_last_loop_keyframe(uint32_t kf_id, const std::function<int(uint32_t kf_id)>& map_of = {});
   // The detection history for the edge's map file: each robot's run of consistent candidate
   // groups and its pause after the last loop. restore() replaces the history with a saved one, so
   // a restored edge closes the loop it was about to close, and not one right after the last.
