@@ -116,6 +116,13 @@ void reseal(std::vector<uint8_t>& bytes) {
   std::memcpy(bytes.data() + 24, &h, 8);
 }
 
+// Two robots' sections: robot 1's map (KeyFrames from 16777216 on) merged into robot 0's.
+void add_two_robots(MapSnapshot& s) {
+  s.robots = {RobotMapSection{5, {1}, {1}}, RobotMapSection{9, {16777216}, {16777216}}};
+  s.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, Eigen::Isometry3d::Identity()}};
+  s.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
+}
+
 // The file an older version wrote: the current encoding without the tail bytes that version did
 // not have, labelled with its version number (payload size and checksum made to match).
 MapSnapshot decode_as_version(std::vector<uint8_t> bytes, uint32_t version, size_t tail_bytes) {
@@ -176,9 +183,7 @@ TEST(MapFile, AVersionOneFileIsStillRead) {
 TEST(MapFile, AVersionTwoFileIsReadWithoutAMergeHistory) {
   const SavedMap a;
   MapSnapshot saved = snapshot_map(a.map);
-  saved.robots = {RobotMapSection{5, {1}, {1}}, RobotMapSection{9, {16777216}, {16777216}}};
-  saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 0, Eigen::Isometry3d::Identity()}};
-  saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, true}};
+  add_two_robots(saved);
   // Version 2 ended with the groups: no merge nor loop detector counts.
   const MapSnapshot loaded = decode_as_version(encode_map_file(saved), 2, 3 * 4);
   EXPECT_EQ(loaded.robots.size(), 2u);
@@ -201,9 +206,7 @@ TEST(MapFile, AVersionThreeFileIsReadWithoutALoopDetectorHistory) {
 TEST(MapFile, TheLoopDetectorHistoryRoundTripsAndIsChecked) {
   const SavedMap a;
   MapSnapshot saved = snapshot_map(a.map);
-  saved.robots = {RobotMapSection{5, {1}, {1}}, RobotMapSection{9, {16777216}, {16777216}}};
-  saved.epochs = {MapEpochRecord{0, 0, 0, Eigen::Isometry3d::Identity()}, MapEpochRecord{1, 16777216, 1, Eigen::Isometry3d::Identity()}};
-  saved.groups = {MapGroupRecord{Eigen::Isometry3d::Identity(), false}, MapGroupRecord{std::nullopt, false}};
+  add_two_robots(saved);
   saved.loop_groups = {LoopGroupRecord{0, 2, {3, 4, 5}}, LoopGroupRecord{1, 0, {16777217}}};
   saved.loop_robots = {LoopRobotRecord{0, 40u, 31u}, LoopRobotRecord{1, 16777230u, std::nullopt}};
   const std::vector<uint8_t> good = encode_map_file(saved);

@@ -227,17 +227,17 @@ void get_loop_detector(ByteReader& in, MapSnapshot& s) {
   }
   // Each names a robot of the file (one robot: robot 0), and a count is never negative.
   const size_t robots = std::max<size_t>(1, s.robots.size());
-  for (const LoopGroupRecord& g : s.loop_groups) {
-    if (g.robot >= robots)
-      throw std::runtime_error("a loop candidate group names robot " + std::to_string(g.robot) + " of " +
+  const auto check_robot = [&](const char* who, uint32_t robot) {
+    if (robot >= robots)
+      throw std::runtime_error(std::string(who) + " names robot " + std::to_string(robot) + " of " +
                                std::to_string(robots));
+  };
+  for (const LoopGroupRecord& g : s.loop_groups) {
+    check_robot("a loop candidate group", g.robot);
     if (g.consistency < 0)
       throw std::runtime_error("a loop candidate group has consistency " + std::to_string(g.consistency));
   }
-  for (const LoopRobotRecord& r : s.loop_robots)
-    if (r.robot >= robots)
-      throw std::runtime_error("the loop detector names robot " + std::to_string(r.robot) + " of " +
-                               std::to_string(robots));
+  for (const LoopRobotRecord& r : s.loop_robots) check_robot("the loop detector", r.robot);
 }
 
 // Version 2's tail: the several-robot sections (counts 0 with one robot).
