@@ -5,6 +5,8 @@
 //     duplicate for its own robot; robot 1's updates still come in robot 1's frame;
 //   - the loop detector's history (each robot's pause after the merge, its candidate groups)
 //     survives the restart: a restored edge saves the same history again;
+//   - a restored edge announces the file's merges once more, marked restored (EdgeSystem):
+//     its latched ~merges starts empty otherwise, and its CSV must not count them as new;
 //   - a file of another number of robots is refused and the map kept;
 //   - EdgeDurability: a checkpoint makes each robot's own seqs durable; a restore acknowledges
 //     each robot its own durable seq under a new boot id.
@@ -16,8 +18,10 @@
 #include "edge_slam/io/map_file.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/split/edge_durability.h"
+#include "edge_slam/split/edge_system.h"
 #include "edge_slam/util/robot_ids.h"
 #include "edge_slam/util/wall_clock.h"
+#include "support/csv_rows.h"
 #include "support/split_fixture.h"
 
 namespace edge_slam {
@@ -144,6 +148,43 @@ TEST(MultiRobotPersistence, ARestoredEdgeHasEveryRobotsMapDeliveriesAndPlacement
     EXPECT_LT((sent->T_wc.translation() - k.T_wc.translation()).norm(), 0.03) << "KeyFrame " << k.id;
   }
   EXPECT_GT(own, 0);
+}
+
+TEST(MultiRobotPersistence, ARestoredEdgeAnnouncesTheFilesMergesOnceAsRestored) {
+  const MergedWalks& w = walks();
+  const std::string file = temp_path("announced.esmap");
+  {
+    EdgeSession before = make_edge();
+    feed(before, w.robot0, 0, w.robot0.size());
+    feed(before, w.robot1, 1, w.robot1.size());
+    ASSERT_EQ(before.merges().size(), 1u) << "the walks overlap";
+    before.save_map(file);
+  }
+  EdgeSystemSettings s;
+  s.camera = sequence().camera;
+  s.session = two_robots();
+  s.vocabulary = sequence().vocabulary;
+  s.restore_on_start = false;
+  s.files.events = temp_path("announced_events.csv");
+  {
+    EdgeSystem edge(s);
+    std::string message;
+    ASSERT_TRUE(edge.load_map(file, &message)) << message;
+    const std::vector<MergeEvent> told = edge.new_merges(1.0);
+    ASSERT_EQ(told.size(), 1u) << "the restored merge goes out on ~merges";
+    EXPECT_EQ(told[0].current_kf_id, edge.session().merges()[0].current_kf_id);
+    EXPECT_TRUE(edge.new_merges(2.0).empty()) << "once";
+    edge.write_outputs();
+  }
+  int restored = 0, merged = 0;
+  for (const auto& row : test_support::read_csv_rows(s.files.events)) {
+    restored += row.at("event") == "merge_restored";
+    merged += row.at("event") == "merge";
+  }
+  EXPECT_EQ(restored, 1);
+  EXPECT_EQ(merged, 0) << "a merge of an earlier run is not one of this run";
+  std::remove(file.c_str());
+  std::remove(s.files.events.c_str());
 }
 
 TEST(MultiRobotPersistence, AFileOfAnotherNumberOfRobotsIsRefusedAndTheMapKept) {

@@ -80,6 +80,16 @@ class TwoRobotRun(SplitRun):
         """The merges the edge reports."""
         return self.edge_metrics().get('merges', [])
 
+    def latched_merge(self):
+        """One message of the edge's latched ~merges, heard by a listener that starts now."""
+        import subprocess
+        try:
+            r = subprocess.run(['rostopic', 'echo', '-n', '1', '/edge_slam/edge/merges'], env=self.env('edge'),
+                               capture_output=True, text=True, timeout=60)
+        except subprocess.TimeoutExpired:
+            return False
+        return r.returncode == 0 and 'loop_keyframe' in r.stdout
+
     def placements(self):
         """T_world_robot of each robot index."""
         return {k: v.get('T_world_robot') for k, v in self.edge_metrics().get('robots', {}).items()}
@@ -115,6 +125,9 @@ class MultiEdgeRestartTest(unittest.TestCase):
             print('[multi_edge_restart] merges reported before the kill %d, by the restarted edge %d' % (
                 len(merges_before), len(merges_after)), file=sys.stderr)
             self.assertGreaterEqual(len(merges_after), 1, 'the restarted edge reports the merge of the two maps')
+            # ~merges is latched: a listener that comes after the restart still hears of the merge,
+            # a merge restored from the checkpoint included (split/edge_system.h, new_merges).
+            self.assertTrue(run.latched_merge(), 'the restarted edge has a merge latched on ~merges')
             for robot in ROBOTS:
                 mobile = run.call('mobile', '/%s/edge_slam/mobile/delivery_status' % robot)
                 edge = run.robot_status(robot)

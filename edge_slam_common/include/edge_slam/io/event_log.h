@@ -7,7 +7,8 @@
 //   wall_time     Unix seconds when the row was made
 //   data_time     message / sensor time (simulated when a bag is replayed)
 //   event         frame, keyframe_sent, frame_sent, update, controller, reset (mobile);
-//                 keyframe, frame, update_sent, loop (edge)
+//                 keyframe, frame, update_sent, loop, merge, merge_restored (a merge of the
+//                 map file the edge restored, told again; edge)
 //   seq, bytes    the message's seq and serialised size
 //   latency_ms    transmit latency (creation or publication on the other side -> received here)
 //   duration_ms   processing: tracking, Local-Map rebuild (an installed update), update construction

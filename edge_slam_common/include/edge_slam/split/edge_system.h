@@ -66,6 +66,9 @@ class EdgeSystem {
   // "loop closed: ..." once per loop: logged, in the CSV, and returned for the loops topic.
   std::vector<std::string> new_loops(double data_now);
   // Maps of two robots joined since the last call: logged, in the CSV, returned for ~merges.
+  // After a restore or a load, the file's merges come first, once, marked restored (the CSV's
+  // "merge_restored"): a restarted edge's latched ~merges would otherwise stay empty although
+  // the maps are joined, while its run files must not count them as merges of this run.
   std::vector<MergeEvent> new_merges(double data_now);
   // TF world -> robotN/map, once the robot's map is placed in the world.
   std::optional<Eigen::Isometry3d> T_world_robot(int robot) const { return session_->placement(robot).T_world_robot; }
@@ -96,11 +99,12 @@ class EdgeSystem {
                                     "rejecting malformed messages on 'keyframes'"};
   RejectionLog malformed_frames_{"rejecting a malformed message on 'frames'", "rejecting malformed messages on 'frames'"};
   LogThrottle invalid_keyframe_log_{5.0}, refused_frame_log_{5.0}, write_error_log_{30.0};
-  // What new_loops / new_merges have told. A loaded file's merges (and its loops, which start
-  // afresh) were told by the edge that saved it: rebase_announcements() after a load. A list
-  // that shrank was restarted with the modules (a reset): told again from its start.
+  // What new_loops / new_merges have told. A loaded file's loops (which start afresh) were told
+  // by the edge that saved it; its merges are told again as restored (the first
+  // merges_restored_ of the list): rebase_announcements() after a load. A list that shrank was
+  // restarted with the modules (a reset): told again from its start.
   std::mutex announce_mutex_;
-  size_t loops_announced_ = 0, merges_announced_ = 0;
+  size_t loops_announced_ = 0, merges_announced_ = 0, merges_restored_ = 0;
   void rebase_announcements();
   mutable std::mutex figures_mutex_;
   std::vector<double> keyframe_latency_ms_, update_build_ms_, divergence_cm_;
