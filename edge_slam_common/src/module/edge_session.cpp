@@ -619,6 +619,10 @@ std::vector<MergeEvent> EdgeSession::merges() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return merges_locked();
 }
+size_t EdgeSession::merges_loaded() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return merges_loaded_.size();
+}
 std::vector<MergeEvent> EdgeSession::merges_locked() const {
   std::vector<MergeEvent> all = merges_loaded_;
   if (modules_ && modules_->loop()) {

@@ -36,8 +36,7 @@ EdgeSystem::EdgeSystem(EdgeSystemSettings settings, WallClock clock, EdgeDurabil
 void EdgeSystem::rebase_announcements() {
   std::lock_guard<std::mutex> lock(announce_mutex_);
   loops_announced_ = session_->loops().size();
-  merges_announced_ = 0;
-  merges_restored_ = session_->merges().size();
+  merges_announced_ = 0;  // the loaded file's merges: told again, as restored (new_merges)
 }
 
 EdgeSystem::~EdgeSystem() {
@@ -168,12 +167,13 @@ std::vector<std::string> EdgeSystem::new_loops(double data_now) {
 std::vector<MergeEvent> EdgeSystem::new_merges(double data_now) {
   std::lock_guard<std::mutex> lock(announce_mutex_);
   const std::vector<MergeEvent> merges = session_->merges();
-  if (merges.size() < merges_announced_) merges_announced_ = merges_restored_ = 0;
+  const size_t restored_count = session_->merges_loaded();
+  if (merges.size() < merges_announced_) merges_announced_ = 0;
   std::vector<MergeEvent> fresh(merges.begin() + static_cast<long>(std::min(merges_announced_, merges.size())),
                                 merges.end());
   for (size_t i = merges_announced_; i < merges.size(); ++i) {
     const MergeEvent& m = merges[i];
-    const bool restored = i < merges_restored_;
+    const bool restored = i < restored_count;
     const std::string line = std::string(restored ? "maps merged (restored from the map file)" : "maps merged") +
                              ": KeyFrame " + std::to_string(m.current_kf_id) + " (robot " +
                              std::to_string(robot_of_keyframe(m.current_kf_id)) + ") <-> KeyFrame " +

@@ -147,6 +147,7 @@ class EdgeSession {
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
   std::vector<MergeEvent> merges() const;  // oldest first, those of a loaded file included
+  size_t merges_loaded() const;             // how many of merges() came from the file last loaded (they come first)
   // Where the robot's map is: its group and, once placed, TF world -> robotN/map.
   RobotPlacement placement(int robot) const { return frames_.placement(robot); }
   const RobotFrames& frames() const { return frames_; }

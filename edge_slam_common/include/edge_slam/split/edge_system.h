@@ -100,11 +100,11 @@ class EdgeSystem {
   RejectionLog malformed_frames_{"rejecting a malformed message on 'frames'", "rejecting malformed messages on 'frames'"};
   LogThrottle invalid_keyframe_log_{5.0}, refused_frame_log_{5.0}, write_error_log_{30.0};
   // What new_loops / new_merges have told. A loaded file's loops (which start afresh) were told
-  // by the edge that saved it; its merges are told again as restored (the first
-  // merges_restored_ of the list): rebase_announcements() after a load. A list that shrank was
+  // by the edge that saved it; its merges (the first EdgeSession::merges_loaded() of the list)
+  // are told again as restored: rebase_announcements() after a load. A list that shrank was
   // restarted with the modules (a reset): told again from its start.
   std::mutex announce_mutex_;
-  size_t loops_announced_ = 0, merges_announced_ = 0, merges_restored_ = 0;
+  size_t loops_announced_ = 0, merges_announced_ = 0;
   void rebase_announcements();
   mutable std::mutex figures_mutex_;
   std::vector<double> keyframe_latency_ms_, update_build_ms_, divergence_cm_;
