@@ -283,4 +283,3 @@ TEST(LoopDetector, ALoopHoldsBackTheRobotsInItsMapOnly) {
   ASSERT_EQ(robots.size(), 2u);
   EXPECT_EQ(robots[0].last_loop_keyframe, std::optional<uint32_t>(40));
 }
-

@@ -169,10 +169,10 @@ std::vector<MergeEvent> EdgeSystem::new_merges(double data_now) {
   const std::vector<MergeEvent> merges = session_->merges();
   const size_t restored_count = session_->merges_loaded();
   if (merges.size() < merges_announced_) merges_announced_ = 0;
-  std::vector<MergeEvent> fresh(merges.begin() + static_cast<long>(std::min(merges_announced_, merges.size())),
-                                merges.end());
+  std::vector<MergeEvent> fresh;
   for (size_t i = merges_announced_; i < merges.size(); ++i) {
     const MergeEvent& m = merges[i];
+    fresh.push_back(m);
     const bool restored = i < restored_count;
     const std::string line = std::string(restored ? "maps merged (restored from the map file)" : "maps merged") +
                              ": KeyFrame " + std::to_string(m.current_kf_id) + " (robot " +
