@@ -619,9 +619,10 @@ std::vector<MergeEvent> EdgeSession::merges() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return merges_locked();
 }
-size_t EdgeSession::merges_loaded() const {
+std::vector<MergeEvent> EdgeSession::merges(size_t* loaded) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return merges_loaded_.size();
+  if (loaded) *loaded = merges_loaded_.size();
+  return merges_locked();
 }
 std::vector<MergeEvent> EdgeSession::merges_locked() const {
   std::vector<MergeEvent> all = merges_loaded_;

@@ -166,8 +166,8 @@ std::vector<std::string> EdgeSystem::new_loops(double data_now) {
 
 std::vector<MergeEvent> EdgeSystem::new_merges(double data_now) {
   std::lock_guard<std::mutex> lock(announce_mutex_);
-  const std::vector<MergeEvent> merges = session_->merges();
-  const size_t restored_count = session_->merges_loaded();
+  size_t restored_count = 0;
+  const std::vector<MergeEvent> merges = session_->merges(&restored_count);
   if (merges.size() < merges_announced_) merges_announced_ = 0;
   std::vector<MergeEvent> fresh;
   for (size_t i = merges_announced_; i < merges.size(); ++i) {

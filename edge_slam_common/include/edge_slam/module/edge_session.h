@@ -147,7 +147,9 @@ class EdgeSession {
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
   std::vector<MergeEvent> merges() const;  // oldest first, those of a loaded file included
-  size_t merges_loaded() const;             // how many of merges() came from the file last loaded (they come first)
+  // The same list and how many of it came from the file last loaded (they come first), read
+  // together: a load between two separate reads would mislabel them.
+  std::vector<MergeEvent> merges(size_t* loaded) const;
   // Where the robot's map is: its group and, once placed, TF world -> robotN/map.
   RobotPlacement placement(int robot) const { return frames_.placement(robot); }
   const RobotFrames& frames() const { return frames_; }

@@ -100,7 +100,7 @@ class EdgeSystem {
   RejectionLog malformed_frames_{"rejecting a malformed message on 'frames'", "rejecting malformed messages on 'frames'"};
   LogThrottle invalid_keyframe_log_{5.0}, refused_frame_log_{5.0}, write_error_log_{30.0};
   // What new_loops / new_merges have told. A loaded file's loops (which start afresh) were told
-  // by the edge that saved it; its merges (the first EdgeSession::merges_loaded() of the list)
+  // by the edge that saved it; its merges (the first of the list, EdgeSession::merges(&loaded))
   // are told again as restored: rebase_announcements() after a load. A list that shrank was
   // restarted with the modules (a reset): told again from its start.
   std::mutex announce_mutex_;
