@@ -44,6 +44,25 @@ TEST(OrbDeterminism, RepeatedExtractionIsIdentical) {
   expect_identical(first, third);
 }
 
+// The extractor keeps its pyramid and smoothed levels from call to call (per thread): nothing
+// of one image may leak into the next, whatever its content or size.
+TEST(OrbDeterminism, AlternatingImagesAndSizesGiveEachItsOwnResult) {
+  const cv::Mat large = make_synthetic_texture(cv::Size(640, 480), 31);
+  const cv::Mat small = make_synthetic_texture(cv::Size(320, 240), 32);
+  Features large_alone, small_alone;
+  OrbExtractor(OrbParams()).extract(large, large_alone.keypoints, large_alone.descriptors);
+  std::thread([&] { OrbExtractor(OrbParams()).extract(small, small_alone.keypoints, small_alone.descriptors); })
+      .join();  // a fresh thread: no buffers from before
+  const OrbExtractor extractor;
+  for (int round = 0; round < 3; ++round) {
+    Features a, b;
+    extractor.extract(small, b.keypoints, b.descriptors);
+    extractor.extract(large, a.keypoints, a.descriptors);
+    expect_identical(large_alone, a);
+    expect_identical(small_alone, b);
+  }
+}
+
 TEST(OrbDeterminism, ConcurrentThreadsAgreeWithSerialResult) {
   const cv::Mat image_a = make_synthetic_texture(cv::Size(640, 480), 21);
   const cv::Mat image_b = make_synthetic_texture(cv::Size(640, 480), 22);

@@ -169,7 +169,7 @@ class MobileNodelet : public nodelet::Nodelet {
       start(yaml_camera_, "YAML (no camera_info)");
       if (!system_->session()) return;
     }
-    ImageCheck check = convert_rgbd(*rgb, *depth, system_->camera(), last_stamp_.load());
+    ImageCheck check = convert_rgbd(rgb, depth, system_->camera(), last_stamp_.load());
     if (!check.ok) return system_->reject_image(check.problem, check.error);
     last_stamp_ = rgb->header.stamp;
     const double stamp = rgb->header.stamp.toSec();

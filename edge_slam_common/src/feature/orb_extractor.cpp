@@ -17,11 +17,19 @@ namespace edge_slam {
 namespace {
 
 // Smoothing before the binary tests; 7x7 with sigma 2 as in the ORB paper's setup.
-cv::Mat smooth_for_descriptor(const cv::Mat& level_image) {
-  cv::Mat smoothed;
+void smooth_for_descriptor(const cv::Mat& level_image, cv::Mat& smoothed) {
   cv::GaussianBlur(level_image, smoothed, cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
-  return smoothed;
 }
+
+// The pyramid and its smoothed levels, about 1 MB per VGA frame, kept from one frame to the
+// next by the thread that extracts (one per thread, so extract() stays const and thread-safe).
+// Allocated afresh each frame they were most of the mobile's large per-frame allocations, and
+// glibc's heap, which serves them once its mmap threshold has grown past them, fragments
+// around them: the mobile's RSS crept by ~1 MB/min on the long run with a constant Local-Map.
+struct ExtractionBuffers {
+  std::vector<cv::Mat> pyramid;
+  std::vector<cv::Mat> smoothed;
+};
 
 }  // namespace
 
@@ -39,7 +47,10 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     throw std::invalid_argument("OrbExtractor::extract: expected a CV_8UC1 image, got type " +
                                 std::to_string(gray.type()));
 
-  const std::vector<cv::Mat> pyramid = build_image_pyramid(gray, scales_.inv_scale);
+  thread_local ExtractionBuffers buffers;
+  build_image_pyramid_into(gray, scales_.inv_scale, buffers.pyramid);
+  const std::vector<cv::Mat>& pyramid = buffers.pyramid;
+  buffers.smoothed.resize(pyramid.size());
   FastGridParams fast;
   fast.cell_size = kOrbFastCellSize;
   fast.border = kOrbEdgeBorder;
@@ -57,7 +68,8 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
         distribute_quadtree(detect_fast_in_grid(image, fast), cv::Rect2f(area), features_per_level_[level]);
     if (level_keypoints.empty()) continue;
 
-    const cv::Mat smoothed = smooth_for_descriptor(image);
+    cv::Mat& smoothed = buffers.smoothed[level];
+    smooth_for_descriptor(image, smoothed);
     // Level pixel centres map to full resolution through the actual (rounded) level size.
     const float to_full_x = static_cast<float>(gray.cols) / image.cols;
     const float to_full_y = static_cast<float>(gray.rows) / image.rows;
@@ -77,6 +89,7 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
       keypoints.push_back(kp);
     }
   }
+  if (!buffers.pyramid.empty()) buffers.pyramid.front().release();  // the caller's image, not ours to keep
   if (keypoints.empty()) return;
   descriptors = cv::Mat(static_cast<int>(keypoints.size()), kDescriptorBytes, CV_8U);
   std::memcpy(descriptors.data, descriptor_bytes.data(), descriptor_bytes.size());

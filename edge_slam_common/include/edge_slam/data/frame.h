@@ -22,8 +22,9 @@ class OrbExtractor;
 // Depth: CV_16UC1 or CV_32FC1 of the same size.
 void validate_rgbd_input(const cv::Mat& color, const cv::Mat& depth, const PinholeCamera& camera);
 
-// Converts an accepted colour image to CV_8UC1.
-cv::Mat to_gray(const cv::Mat& color, RgbEncoding encoding);
+// Converts an accepted colour image to CV_8UC1 into `gray`, whose buffer is written over when
+// the size repeats (a 1-channel image is copied).
+void to_gray_into(const cv::Mat& color, RgbEncoding encoding, cv::Mat& gray);
 
 class Frame {
  public:
