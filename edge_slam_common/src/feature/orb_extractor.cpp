@@ -21,7 +21,7 @@ void smooth_for_descriptor(const cv::Mat& level_image, cv::Mat& smoothed) {
   cv::GaussianBlur(level_image, smoothed, cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
 }
 
-// The pyramid and its smoothed levels, about 1 MB per VGA frame, kept from one frame to the
+// The pyramid and its smoothed levels, about 1.6 MB per VGA frame, kept from one frame to the
 // next by the thread that extracts (one per thread, so extract() stays const and thread-safe).
 // Allocated afresh each frame they were most of the mobile's large per-frame allocations, and
 // glibc's heap, which serves them once its mmap threshold has grown past them, fragments
