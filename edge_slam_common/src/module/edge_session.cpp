@@ -615,10 +615,6 @@ std::vector<LoopEvent> EdgeSession::loops() const {
   const auto m = modules();
   return m->loop() ? m->loop()->loops() : std::vector<LoopEvent>{};
 }
-std::vector<MergeEvent> EdgeSession::merges() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return merges_locked();
-}
 std::vector<MergeEvent> EdgeSession::merges(size_t* loaded) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (loaded) *loaded = merges_loaded_.size();

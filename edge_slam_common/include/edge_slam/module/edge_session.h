@@ -146,10 +146,10 @@ class EdgeSession {
   std::shared_ptr<const Map> global_map() const { return map_; }
   int loops_closed() const;
   std::vector<LoopEvent> loops() const;
-  std::vector<MergeEvent> merges() const;  // oldest first, those of a loaded file included
-  // The same list and how many of it came from the file last loaded (they come first), read
-  // together: a load between two separate reads would mislabel them.
-  std::vector<MergeEvent> merges(size_t* loaded) const;
+  // Oldest first, those of a loaded file included; `loaded`, when given, gets how many of them came
+  // from the file last loaded (they come first), read under the same lock: a load between two
+  // separate reads would mislabel them.
+  std::vector<MergeEvent> merges(size_t* loaded = nullptr) const;
   // Where the robot's map is: its group and, once placed, TF world -> robotN/map.
   RobotPlacement placement(int robot) const { return frames_.placement(robot); }
   const RobotFrames& frames() const { return frames_; }
