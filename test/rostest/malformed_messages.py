@@ -50,8 +50,8 @@ def valid_keyframe(rng, kf_id):
     _features(m, rng)
     m.obs_kp_index = [0, 1]
     m.obs_point_id = [kf_id + 1, kf_id + 2]
-    m.new_point_id = [kf_id + 3]
-    m.new_point_kp_index = [2]
+    m.new_point_kp_mask = bytes([1 << 2])  # keypoint 2 made a point (format 5) ...
+    m.new_point_first_id = kf_id + 3       # ... whose id is implied: new_point_id stays empty
     m.new_point_xyz = [0.1, 0.2, 1.5]
     m.parent_id = KeyFrame.NO_PARENT
     return m
@@ -74,7 +74,7 @@ def valid_map_update(rng, base_id):
     m.seq = rng.randint(1, 1 << 40)
     a, b = valid_keyframe(rng, base_id), valid_keyframe(rng, base_id + 10)
     for kf in (a, b):  # inside an update: observations only, points travel in `points`
-        kf.new_point_id, kf.new_point_kp_index, kf.new_point_xyz = [], [], []
+        kf.new_point_kp_mask, kf.new_point_first_id, kf.new_point_id, kf.new_point_xyz = b'', 0, [], []
     b.parent_id = a.id
     m.keyframes = [a, b]
     p = m.points
@@ -130,15 +130,21 @@ def _keyframe_only(rng):
     bad_float = [float('nan'), float('inf'), -float('inf')]
 
     def too_many_new_points(m):
+        # More ids than any KeyFrame may carry (the mask can only name the 4 keypoints).
         n = 8001
         m.new_point_id = list(range(m.id + 100, m.id + 100 + n))
-        m.new_point_kp_index = [3] * n
         m.new_point_xyz = [0.5] * (3 * n)
 
     def implied_position_without_depth(m):
         # Format 4: no positions means back-project each source keypoint; this one has no depth.
         m.new_point_xyz = []
-        m.kp_depth[m.new_point_kp_index[0]] = 0
+        m.kp_depth[2] = 0
+
+    def reserved_new_point_id(m):
+        if rng.random() < 0.5:
+            m.new_point_first_id = NO_ID  # implied ids starting at the reserved one
+        else:
+            m.new_point_id = [NO_ID]
 
     def too_many_covisibility(m):
         m.covis_ids = list(range(1, 4002))
@@ -160,9 +166,13 @@ def _keyframe_only(rng):
         'new_point_not_finite': lambda m: m.new_point_xyz.__setitem__(rng.randint(0, 2), rng.choice(bad_float)),
         'new_point_xyz_size': lambda m: setattr(m, 'new_point_xyz', _shorter(m.new_point_xyz)),
         'new_point_implied_without_depth': implied_position_without_depth,
-        'new_point_kp_range': lambda m: m.new_point_kp_index.__setitem__(0, rng.randint(N_KP, 65535)),
-        'new_point_reserved_id': lambda m: m.new_point_id.__setitem__(0, NO_ID),
-        'new_point_duplicates_observation': lambda m: m.new_point_id.__setitem__(0, m.obs_point_id[0]),
+        'new_point_mask_past_keypoints': lambda m: setattr(
+            m, 'new_point_kp_mask', bytes([m.new_point_kp_mask[0] | (1 << rng.randint(N_KP, 7))])),
+        'new_point_mask_size': lambda m: setattr(
+            m, 'new_point_kp_mask', m.new_point_kp_mask + bytes(rng.randint(1, 3))),
+        'new_point_ids_disagree': lambda m: setattr(m, 'new_point_id', [m.id + 3, m.id + 4]),
+        'new_point_reserved_id': reserved_new_point_id,
+        'new_point_duplicates_observation': lambda m: setattr(m, 'new_point_first_id', m.obs_point_id[0]),
         'covis_size_mismatch': lambda m: (m.covis_ids.append(7), None),
         'covis_self': lambda m: (m.covis_ids.append(m.id), m.covis_weights.append(3)),
         'covis_repeated': lambda m: (m.covis_ids.extend([7, 7]), m.covis_weights.extend([1, 2])),
@@ -170,6 +180,12 @@ def _keyframe_only(rng):
         'refuted_reserved_point': lambda m: setattr(m, 'refuted_point_ids', [m.id + 60, NO_ID]),
         'refuted_repeated_point': lambda m: setattr(m, 'refuted_point_ids', [m.id + 61, m.id + 61]),
         'too_many_refuted_points': lambda m: setattr(m, 'refuted_point_ids', list(range(m.id + 100, m.id + 100 + 20001))),
+        # format 5: refuted ids as a bit mask over a range
+        'refuted_both_forms': lambda m: (setattr(m, 'refuted_mask', bytes([1])), setattr(m, 'refuted_point_ids', [m.id + 62])),
+        'refuted_mask_reserved_point': lambda m: (setattr(m, 'refuted_first_id', NO_ID - rng.randint(0, 7)),
+                                                  setattr(m, 'refuted_mask', bytes([0x80]))),
+        'too_many_refuted_points_mask': lambda m: (setattr(m, 'refuted_first_id', m.id + 100),
+                                                   setattr(m, 'refuted_mask', b'\xff' * 2501)),
         'too_many_new_points': too_many_new_points,
         'too_many_covisibility': too_many_covisibility,
     }

@@ -8,10 +8,64 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "feature_packing.h"
 
 namespace edge_slam {
+namespace {
+
+// The refuted ids as a bit mask over [first, last] when that takes fewer bytes than the list
+// (4 per id): the mobile's ids count up KeyFrame by KeyFrame, so the few hundred it refutes at
+// a KeyFrame lie within the last KeyFrames' blocks, a bit each against 4 bytes.
+void pack_refuted_points(const std::vector<uint32_t>& ids, edge_slam_msgs::KeyFrame& msg) {
+  if (ids.empty()) return;
+  const auto [lo, hi] = std::minmax_element(ids.begin(), ids.end());
+  const uint64_t span = uint64_t{*hi} - *lo + 1;
+  if ((span + 7) / 8 >= 4 * uint64_t{ids.size()}) {
+    msg.refuted_point_ids = ids;
+    return;
+  }
+  msg.refuted_first_id = *lo;
+  msg.refuted_mask.assign((span + 7) / 8, 0);
+  for (uint32_t id : ids) msg.refuted_mask[(id - *lo) / 8] |= static_cast<uint8_t>(1u << ((id - *lo) % 8));
+  // A repeated id (an invalid record) would vanish in the mask: keep the list, the receiver refuses it.
+  size_t set = 0;
+  for (uint8_t b : msg.refuted_mask) set += static_cast<size_t>(__builtin_popcount(b));
+  if (set != ids.size()) {
+    msg.refuted_first_id = 0;
+    msg.refuted_mask.clear();
+    msg.refuted_point_ids = ids;
+  }
+}
+
+DecodeStatus unpack_refuted_points(const edge_slam_msgs::KeyFrame& msg, const MessageLimits& limits,
+                                   std::vector<uint32_t>& out) {
+  const auto too_many = [&](size_t n) {
+    return DecodeStatus::failure("too many refuted points: " + std::to_string(n) + " (at most " +
+                                 std::to_string(limits.max_refuted_points) + ")");
+  };
+  if (msg.refuted_mask.empty()) {
+    if (msg.refuted_point_ids.size() > limits.max_refuted_points) return too_many(msg.refuted_point_ids.size());
+    out = msg.refuted_point_ids;
+    return {};
+  }
+  if (!msg.refuted_point_ids.empty())
+    return DecodeStatus::failure("refuted points given both as refuted_mask and as refuted_point_ids");
+  std::vector<uint32_t> ids;
+  for (size_t i = 0; i < msg.refuted_mask.size() * 8; ++i) {
+    if (!(msg.refuted_mask[i / 8] & (1u << (i % 8)))) continue;
+    const uint64_t id = uint64_t{msg.refuted_first_id} + i;
+    if (id >= kNoId) return DecodeStatus::failure("refuted_mask reaches the reserved refuted point id");
+    if (ids.size() == limits.max_refuted_points) return too_many(ids.size() + 1);
+    ids.push_back(static_cast<uint32_t>(id));
+  }
+  out = std::move(ids);
+  return {};
+}
+
+}  // namespace
 
 edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   edge_slam_msgs::KeyFrame msg;
@@ -30,21 +84,41 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
     msg.obs_kp_index.push_back(static_cast<uint16_t>(kp));
     msg.obs_point_id.push_back(point);
   }
+  // New points in keypoint order, their sources as a bit mask (format 5): a mobile KeyFrame
+  // makes hundreds, and a bit per keypoint costs less than a 2-byte index per point.
+  std::vector<const NewPointRecord*> news;
+  news.reserve(r.new_points.size());
+  for (const NewPointRecord& p : r.new_points) news.push_back(&p);
+  std::stable_sort(news.begin(), news.end(), [](const auto* a, const auto* b) { return a->kp_index < b->kp_index; });
+  const size_t n = msg.kp_depth.size();
+  // Ids are left out when they count up from the first in keypoint order, as the mobile
+  // allocates them. A record the mask cannot say (a source out of range or used twice) keeps its
+  // ids, whose count then disagrees with the mask: the receiver refuses it as before.
+  bool ids_implied = !news.empty();
+  if (!news.empty()) msg.new_point_kp_mask.assign((n + 7) / 8, 0);
+  for (size_t k = 0; k < news.size(); ++k) {
+    const size_t i = news[k]->kp_index;
+    const bool expressible = i < n && (k == 0 || i != news[k - 1]->kp_index);
+    if (i < n) msg.new_point_kp_mask[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
+    ids_implied = ids_implied && expressible && uint64_t{news[0]->id} + k == news[k]->id && news[k]->id != kNoId;
+  }
+  if (ids_implied) {
+    msg.new_point_first_id = news.front()->id;
+  } else {
+    for (const NewPointRecord* p : news) msg.new_point_id.push_back(p->id);
+  }
   // The positions go only where the receiver could not compute them from the keypoints as it
   // will read them (io/new_point_position.h): all of them, or none.
-  const bool positions_implied = std::all_of(r.new_points.begin(), r.new_points.end(), [&](const NewPointRecord& p) {
-    const size_t k = p.kp_index;
-    if (k >= msg.kp_depth.size()) return false;
+  const bool positions_implied = std::all_of(news.begin(), news.end(), [&](const NewPointRecord* p) {
+    const size_t k = p->kp_index;
+    if (k >= n) return false;
     const auto at = back_project(r.camera, r.T_wc, packing::dequantize_pixel(msg.kp_xy[2 * k]),
                                  packing::dequantize_pixel(msg.kp_xy[2 * k + 1]), packing::dequantize_depth(msg.kp_depth[k]));
-    return at && (p.position.cast<double>() - *at).norm() <= kNewPointPositionTolerance;
+    return at && (p->position.cast<double>() - *at).norm() <= kNewPointPositionTolerance;
   });
-  for (const NewPointRecord& p : r.new_points) {
-    msg.new_point_id.push_back(p.id);
-    msg.new_point_kp_index.push_back(static_cast<uint16_t>(p.kp_index));
-    if (!positions_implied)
-      msg.new_point_xyz.insert(msg.new_point_xyz.end(), {p.position.x(), p.position.y(), p.position.z()});
-  }
+  if (!positions_implied)
+    for (const NewPointRecord* p : news)
+      msg.new_point_xyz.insert(msg.new_point_xyz.end(), {p->position.x(), p->position.y(), p->position.z()});
   msg.parent_id = r.parent_id;
   msg.tracked_points = r.tracked_points;
   msg.reference_points = r.reference_points;
@@ -54,7 +128,7 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
     msg.covis_ids.push_back(kf);
     msg.covis_weights.push_back(static_cast<uint16_t>(std::min<uint32_t>(weight, 65535)));
   }
-  msg.refuted_point_ids = r.refuted_points;
+  pack_refuted_points(r.refuted_points, msg);
   return msg;
 }
 
@@ -86,22 +160,35 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
     r.observations.emplace_back(msg.obs_kp_index[i], msg.obs_point_id[i]);
   }
 
-  const size_t m = msg.new_point_id.size();
+  // The new points' sources: the set bits of the mask, in keypoint order.
+  const std::vector<uint8_t>& mask = msg.new_point_kp_mask;
+  if (!mask.empty() && mask.size() != (n + 7) / 8)
+    return DecodeStatus::failure("new_point_kp_mask has " + std::to_string(mask.size()) + " bytes, expected " +
+                                 std::to_string((n + 7) / 8) + " (one bit per keypoint) or none");
+  if (!mask.empty() && n % 8 != 0 && (mask.back() >> (n % 8)) != 0)
+    return DecodeStatus::failure("new_point_kp_mask marks a keypoint past the " + std::to_string(n) + " keypoints");
+  std::vector<uint32_t> sources;
+  for (size_t i = 0; i < mask.size() * 8 && i < n; ++i)
+    if (mask[i / 8] & (1u << (i % 8))) sources.push_back(static_cast<uint32_t>(i));
+  const size_t m = sources.size();
   if (m > limits.max_new_points) return DecodeStatus::failure("too many new points: " + std::to_string(m));
+  const bool ids_implied = msg.new_point_id.empty();
+  if (ids_implied && m > 0 && (msg.new_point_first_id == kNoId || uint64_t{msg.new_point_first_id} + m - 1 >= kNoId))
+    return DecodeStatus::failure("new_point_first_id " + std::to_string(msg.new_point_first_id) + " + " +
+                                 std::to_string(m) + " new points reaches the reserved id");
   // No positions: each is its source keypoint back-projected (io/new_point_position.h).
   const bool positions_implied = msg.new_point_xyz.empty();
-  if (msg.new_point_kp_index.size() != m || (!positions_implied && msg.new_point_xyz.size() != 3 * m))
-    return DecodeStatus::failure("new_point arrays disagree: ids " + std::to_string(m) + ", kp_index " +
-                                 std::to_string(msg.new_point_kp_index.size()) + ", xyz " +
+  if ((!ids_implied && msg.new_point_id.size() != m) || (!positions_implied && msg.new_point_xyz.size() != 3 * m))
+    return DecodeStatus::failure("new_point arrays disagree: new_point_kp_mask marks " + std::to_string(m) +
+                                 ", ids " + std::to_string(msg.new_point_id.size()) + " (or none: counted from new_point_first_id), xyz " +
                                  std::to_string(msg.new_point_xyz.size()) +
                                  " (expected 3 per point, or none: back-projected from the keypoints' depth)");
   r.new_points.resize(m);
   for (size_t i = 0; i < m; ++i) {
     NewPointRecord& p = r.new_points[i];
-    p.id = msg.new_point_id[i];
-    p.kp_index = msg.new_point_kp_index[i];
+    p.id = ids_implied ? msg.new_point_first_id + static_cast<uint32_t>(i) : msg.new_point_id[i];
+    p.kp_index = sources[i];
     if (p.id == kNoId) return DecodeStatus::failure("new point with the reserved id");
-    if (p.kp_index >= n) return DecodeStatus::failure("new_point_kp_index out of range at " + std::to_string(i));
     if (positions_implied) {
       const auto at = back_projected_keypoint(r, p.kp_index);
       if (!at)
@@ -123,10 +210,8 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
     r.covisibility.emplace_back(msg.covis_ids[i], msg.covis_weights[i]);
   }
   if (msg.parent_id == msg.id) return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + " is its own parent");
-  if (msg.refuted_point_ids.size() > limits.max_refuted_points)
-    return DecodeStatus::failure("too many refuted points: " + std::to_string(msg.refuted_point_ids.size()) +
-                                 " (at most " + std::to_string(limits.max_refuted_points) + ")");
-  r.refuted_points = msg.refuted_point_ids;
+  s = unpack_refuted_points(msg, limits, r.refuted_points);
+  if (!s.ok) return s;
 
   if (!std::isfinite(msg.created_wall)) return DecodeStatus::failure("created_wall is not finite");
   r.seq = msg.seq;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <ros/serialization.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -90,7 +91,8 @@ TEST(BridgeConversion, NewPointPositionsThatTheKeypointsImplyAreLeftOutAndComput
   in = with_back_projected_points(in);
   const edge_slam_msgs::KeyFrame msg = to_message(in);
   EXPECT_TRUE(msg.new_point_xyz.empty());
-  EXPECT_EQ(msg.new_point_id.size(), 200u);
+  EXPECT_TRUE(msg.new_point_id.empty()) << "ids counting up in keypoint order are implied";
+  EXPECT_EQ(msg.new_point_first_id, 5000u);
   KeyFrameRecord out;
   const DecodeStatus s = from_message(msg, out);
   ASSERT_TRUE(s.ok) << s.error;
@@ -121,10 +123,81 @@ TEST(BridgeConversion, ANewPointWithoutPositionNeedsItsKeypointsDepth) {
   ASSERT_TRUE(msg.new_point_xyz.empty());
   KeyFrameRecord out;
   ASSERT_TRUE(from_message(msg, out).ok);
-  msg.kp_depth[msg.new_point_kp_index[0]] = 0;  // the keypoint lost its depth on the way
+  msg.kp_depth[21] = 0;  // the keypoint lost its depth on the way
   const DecodeStatus s = from_message(msg, out);
   EXPECT_FALSE(s.ok);
   EXPECT_NE(s.error.find("no depth"), std::string::npos) << s.error;
+}
+
+// Format 5: the new points' sources travel as a bit per keypoint and their ids as the first
+// one when they count up in keypoint order; anything else keeps its ids, in keypoint order.
+TEST(BridgeConversion, NewPointSourcesAsAMaskAndIdsCountingUpAsTheFirstOne) {
+  KeyFrameRecord in = make_keyframe(1000, 400, 0);
+  for (uint32_t i = 0; i < 300; ++i) in.new_points.push_back({7000 + i, 400 + 2 * i, Eigen::Vector3f(0.1f * i, 1.f, 2.f)});
+  const edge_slam_msgs::KeyFrame implied = to_message(in);
+  ASSERT_EQ(implied.new_point_kp_mask.size(), 125u);
+  EXPECT_TRUE(implied.new_point_id.empty());
+  EXPECT_EQ(implied.new_point_first_id, 7000u);
+  KeyFrameRecord out;
+  ASSERT_TRUE(from_message(implied, out).ok);
+  ASSERT_EQ(out.new_points.size(), 300u);
+  for (size_t i = 0; i < 300; ++i) {
+    EXPECT_EQ(out.new_points[i].id, in.new_points[i].id);
+    EXPECT_EQ(out.new_points[i].kp_index, in.new_points[i].kp_index);
+  }
+  // Against format 4's 6 bytes a point (a 4-byte id and a 2-byte index), at 300 points.
+  EXPECT_LE(ros::serialization::serializationLength(implied) + 300u * 6u - 125u - 4u,
+            ros::serialization::serializationLength(to_message(make_keyframe(1000, 400, 0))) + 300u * 12u + 300u * 6u);
+
+  // Ids that do not count up, listed out of keypoint order: sent one by one, back in keypoint order.
+  KeyFrameRecord shuffled = in;
+  std::swap(shuffled.new_points[3].id, shuffled.new_points[9].id);
+  std::reverse(shuffled.new_points.begin(), shuffled.new_points.end());
+  const edge_slam_msgs::KeyFrame explicit_ids = to_message(shuffled);
+  EXPECT_EQ(explicit_ids.new_point_id.size(), 300u);
+  ASSERT_TRUE(from_message(explicit_ids, out).ok);
+  ASSERT_EQ(out.new_points.size(), 300u);
+  for (size_t i = 0; i < 300; ++i) {
+    EXPECT_EQ(out.new_points[i].kp_index, 400u + 2u * i) << "keypoint order";
+    const uint32_t expected = i == 3 ? 7009u : i == 9 ? 7003u : 7000u + static_cast<uint32_t>(i);
+    EXPECT_EQ(out.new_points[i].id, expected);
+  }
+
+  // A record with two new points at one keypoint cannot be said by the mask: the receiver refuses it.
+  KeyFrameRecord twice = in;
+  twice.new_points[1].kp_index = twice.new_points[0].kp_index;
+  const DecodeStatus s = from_message(to_message(twice), out);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.error.find("disagree"), std::string::npos) << s.error;
+}
+
+// Format 5: refuted ids within a range travel as a bit mask when that is smaller than the list.
+TEST(BridgeConversion, RefutedPointsAsAMaskOverTheirRangeWhenThatIsSmaller) {
+  KeyFrameRecord in = make_keyframe(100, 20, 0);
+  in.refuted_points.clear();
+  for (uint32_t id = 90000; id < 91500; id += 3) in.refuted_points.push_back(id);  // 500 of 1500 ids
+  std::reverse(in.refuted_points.begin(), in.refuted_points.end());
+  const edge_slam_msgs::KeyFrame msg = to_message(in);
+  EXPECT_TRUE(msg.refuted_point_ids.empty());
+  EXPECT_EQ(msg.refuted_first_id, 90000u);
+  EXPECT_EQ(msg.refuted_mask.size(), 188u) << "1498 bits";
+  KeyFrameRecord out;
+  ASSERT_TRUE(from_message(msg, out).ok);
+  std::vector<uint32_t> sorted = in.refuted_points;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(out.refuted_points, sorted) << "the same ids, in increasing order";
+
+  KeyFrameRecord sparse = in;
+  sparse.refuted_points = {5, 4000000, 77};
+  EXPECT_EQ(to_message(sparse).refuted_point_ids, sparse.refuted_points) << "a list where a mask would be larger";
+  ASSERT_TRUE(from_message(to_message(sparse), out).ok);
+  EXPECT_EQ(out.refuted_points, sparse.refuted_points);
+
+  KeyFrameRecord repeated = in;
+  repeated.refuted_points.push_back(90003);
+  const DecodeStatus s = from_message(to_message(repeated), out);
+  EXPECT_FALSE(s.ok) << "a repeated id is not lost in the mask: sent as a list and refused";
+  EXPECT_NE(s.error.find("is repeated"), std::string::npos) << s.error;
 }
 
 TEST(BridgeConversion, RejectsMalformedKeyFrames) {
@@ -151,6 +224,9 @@ TEST(BridgeConversion, RejectsMalformedKeyFrames) {
   { auto m = good; m.refuted_point_ids = {7, kNoId}; expect_reject(m, "reserved refuted point id"); }
   { auto m = good; m.refuted_point_ids = {7, 7}; expect_reject(m, "repeated refuted point"); }
   { auto m = good; m.refuted_point_ids.assign(20001, 0); expect_reject(m, "too many refuted points"); }
+  { auto m = good; m.refuted_mask = {1}, m.refuted_point_ids = {7}; expect_reject(m, "refuted points in both forms"); }
+  { auto m = good; m.refuted_mask = {0x80}, m.refuted_first_id = kNoId - 7; expect_reject(m, "mask reaching the reserved id"); }
+  { auto m = good; m.refuted_mask.assign(2501, 0xff), m.refuted_first_id = 10; expect_reject(m, "too many refuted points (mask)"); }
   EXPECT_EQ(out.id, kNoId) << "a rejected message must leave the output untouched";
 }
 

@@ -80,10 +80,14 @@ TEST(BridgeValidation, KeyFrameObservationsAndNewPoints) {
   kf_rejected([](KfMsg& m) { m.obs_point_id[1] = m.obs_point_id[0]; }, "repeats point");
   kf_rejected([](KfMsg& m) { m.obs_kp_index.resize(61, 0), m.obs_point_id.resize(61, 5); }, "more observations");
   kf_rejected([](KfMsg& m) { m.new_point_xyz.pop_back(); }, "new_point arrays");
-  kf_rejected([](KfMsg& m) { m.new_point_kp_index.pop_back(); }, "new_point arrays");
-  kf_rejected([](KfMsg& m) { m.new_point_id[0] = kNoId; }, "reserved id");
-  kf_rejected([](KfMsg& m) { m.new_point_id[0] = m.obs_point_id[0]; }, "repeats point");
-  kf_rejected([](KfMsg& m) { m.new_point_kp_index[2] = 600; }, "new_point_kp_index");
+  kf_rejected([](KfMsg& m) { m.new_point_kp_mask[3] ^= 0x01; }, "new_point arrays");  // one source more or less
+  kf_rejected([](KfMsg& m) { m.new_point_kp_mask.pop_back(); }, "new_point_kp_mask");
+  kf_rejected([](KfMsg& m) { m.new_point_kp_mask.push_back(0); }, "new_point_kp_mask");
+  kf_rejected([](KfMsg& m) { m.new_point_id.clear(), m.new_point_first_id = kNoId - 3; }, "reserved id");
+  kf_rejected([](KfMsg& m) { m.new_point_id.clear(), m.new_point_first_id = m.obs_point_id[0]; }, "repeats point");
+  kf_rejected([](KfMsg& m) { m.new_point_id.push_back(12345); }, "new_point arrays");
+  kf_rejected([](KfMsg& m) { m.new_point_id.assign(m.new_point_xyz.size() / 3, 900), m.new_point_id[0] = kNoId; }, "reserved id");
+  kf_rejected([](KfMsg& m) { m.new_point_id.assign(m.new_point_xyz.size() / 3, 900); }, "repeats point");
   kf_rejected([](KfMsg& m) { m.new_point_xyz[4] = NAN; }, "not finite");
   kf_rejected([](KfMsg& m) { m.new_point_xyz[4] = 1e30f; }, "out of range");
   MessageLimits few;

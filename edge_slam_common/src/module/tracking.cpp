@@ -532,10 +532,16 @@ std::shared_ptr<KeyFrame> Tracking::create_keyframe(Frame& frame, bool all_depth
     if (f.has_depth(i)) by_depth.emplace_back(f.depth[i], i);
   std::sort(by_depth.begin(), by_depth.end());
   int points = 0;
+  std::vector<size_t> sources;
   for (const auto& [z, i] : by_depth) {
     if (!all_depth_points && z > camera_.th_depth && points > params_.new_points_per_keyframe) break;
     ++points;
-    if (frame.map_points[i]) continue;
+    if (!frame.map_points[i]) sources.push_back(i);
+  }
+  // Ids in keypoint order: the KeyFrame record then names them by the first one alone
+  // (KeyFrame.msg, format 5).
+  std::sort(sources.begin(), sources.end());
+  for (size_t i : sources) {
     auto mp = std::make_shared<MapPoint>(map_->new_map_point_id(), frame.unproject_world(i), kf->id());
     mp->set_descriptor(f.descriptor(i));
     mp->add_observation(kf->id(), static_cast<int>(i));
