@@ -48,7 +48,7 @@ def valid_keyframe(rng, kf_id):
     m.pose.orientation.w = 1.0
     m.pose.position.x = rng.uniform(-2, 2)
     _features(m, rng)
-    m.obs_kp_index = [0, 1]
+    m.obs_kp_mask = bytes([0b11])  # keypoints 0 and 1 see points (format 5) ...
     m.obs_point_id = [kf_id + 1, kf_id + 2]
     m.new_point_kp_mask = bytes([1 << 2])  # keypoint 2 made a point (format 5) ...
     m.new_point_first_id = kf_id + 3       # ... whose id is implied: new_point_id stays empty
@@ -140,6 +140,11 @@ def _keyframe_only(rng):
         m.new_point_xyz = []
         m.kp_depth[2] = 0
 
+    def seen_keypoint_as_source(m):
+        # Keypoint 0 sees a point and is made the source of a new one too (counts consistent).
+        m.new_point_kp_mask = bytes([m.new_point_kp_mask[0] | 0b1])
+        m.new_point_xyz = [0.3, 0.1, 1.2] + list(m.new_point_xyz)
+
     def reserved_new_point_id(m):
         if rng.random() < 0.5:
             m.new_point_first_id = NO_ID  # implied ids starting at the reserved one
@@ -158,11 +163,12 @@ def _keyframe_only(rng):
         'quaternion_not_unit': lambda m: setattr(m.pose.orientation, 'x', rng.uniform(0.5, 3.0)),
         'quaternion_nan': lambda m: setattr(m.pose.orientation, rng.choice('xyzw'), float('nan')),
         'created_wall_not_finite': lambda m: setattr(m, 'created_wall', rng.choice(bad_float)),
-        'obs_index_range': lambda m: m.obs_kp_index.__setitem__(0, rng.randint(N_KP, 65535)),
+        'obs_mask_past_keypoints': lambda m: setattr(m, 'obs_kp_mask', bytes([m.obs_kp_mask[0] | (1 << rng.randint(N_KP, 7))])),
+        'obs_mask_size': lambda m: setattr(m, 'obs_kp_mask', m.obs_kp_mask + bytes(rng.randint(1, 3))),
         'obs_size_mismatch': lambda m: m.obs_point_id.append(m.id + 50),
         'obs_reserved_point': lambda m: m.obs_point_id.__setitem__(1, NO_ID),
         'obs_duplicate_point': lambda m: m.obs_point_id.__setitem__(1, m.obs_point_id[0]),
-        'obs_reused_keypoint': lambda m: m.obs_kp_index.__setitem__(1, m.obs_kp_index[0]),
+        'new_point_at_seen_keypoint': seen_keypoint_as_source,
         'new_point_not_finite': lambda m: m.new_point_xyz.__setitem__(rng.randint(0, 2), rng.choice(bad_float)),
         'new_point_xyz_size': lambda m: setattr(m, 'new_point_xyz', _shorter(m.new_point_xyz)),
         'new_point_implied_without_depth': implied_position_without_depth,

@@ -16,6 +16,34 @@
 namespace edge_slam {
 namespace {
 
+// A set of keypoints as one bit per keypoint (bit i % 8 of byte i / 8), ceil(n / 8) bytes, or
+// none when the set is empty (format 5): a KeyFrame names hundreds of its 1000 keypoints, and a
+// bit each costs less than a 2-byte index each. Indices out of range are left out (the caller's
+// counts then disagree with the mask, and the receiver refuses the message).
+std::vector<uint8_t> keypoint_mask(const std::vector<uint32_t>& indices, size_t n) {
+  std::vector<uint8_t> mask;
+  if (indices.empty()) return mask;
+  mask.assign((n + 7) / 8, 0);
+  for (uint32_t i : indices)
+    if (i < n) mask[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
+  return mask;
+}
+
+// The set bits of a keypoint mask, in increasing order; fails on a wrong length or a bit past n.
+DecodeStatus keypoints_of_mask(const std::vector<uint8_t>& mask, size_t n, const char* field,
+                               std::vector<uint32_t>& out) {
+  out.clear();
+  if (mask.empty()) return {};
+  if (mask.size() != (n + 7) / 8)
+    return DecodeStatus::failure(std::string(field) + " has " + std::to_string(mask.size()) + " bytes, expected " +
+                                 std::to_string((n + 7) / 8) + " (one bit per keypoint) or none");
+  if (n % 8 != 0 && (mask.back() >> (n % 8)) != 0)
+    return DecodeStatus::failure(std::string(field) + " marks a keypoint past the " + std::to_string(n) + " keypoints");
+  for (size_t i = 0; i < n; ++i)
+    if (mask[i / 8] & (1u << (i % 8))) out.push_back(static_cast<uint32_t>(i));
+  return {};
+}
+
 // The refuted ids as a bit mask over [first, last] when that takes fewer bytes than the list
 // (4 per id): the mobile's ids count up KeyFrame by KeyFrame, so the few hundred it refutes at
 // a KeyFrame lie within the last KeyFrames' blocks, a bit each against 4 bytes.
@@ -78,30 +106,37 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   msg.reset = r.reset;
   msg.pose = pose_to_message(r.T_wc);
   packing::pack_camera_and_features(r.camera, r.features, msg);
-  msg.obs_kp_index.reserve(r.observations.size());
-  msg.obs_point_id.reserve(r.observations.size());
-  for (const auto& [kp, point] : r.observations) {
-    msg.obs_kp_index.push_back(static_cast<uint16_t>(kp));
+  const size_t n = msg.kp_depth.size();
+  // Observations in keypoint order: the keypoints as a mask, the point ids in that order.
+  std::vector<std::pair<uint32_t, uint32_t>> obs = r.observations;
+  std::stable_sort(obs.begin(), obs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<uint32_t> obs_keypoints;
+  obs_keypoints.reserve(obs.size());
+  msg.obs_point_id.reserve(obs.size());
+  for (const auto& [kp, point] : obs) {
+    obs_keypoints.push_back(kp);
     msg.obs_point_id.push_back(point);
   }
+  msg.obs_kp_mask = keypoint_mask(obs_keypoints, n);
   // New points in keypoint order, their sources as a bit mask (format 5): a mobile KeyFrame
   // makes hundreds, and a bit per keypoint costs less than a 2-byte index per point.
   std::vector<const NewPointRecord*> news;
   news.reserve(r.new_points.size());
   for (const NewPointRecord& p : r.new_points) news.push_back(&p);
   std::stable_sort(news.begin(), news.end(), [](const auto* a, const auto* b) { return a->kp_index < b->kp_index; });
-  const size_t n = msg.kp_depth.size();
   // Ids are left out when they count up from the first in keypoint order, as the mobile
   // allocates them. A record the mask cannot say (a source out of range or used twice) keeps its
   // ids, whose count then disagrees with the mask: the receiver refuses it as before.
   bool ids_implied = !news.empty();
-  if (!news.empty()) msg.new_point_kp_mask.assign((n + 7) / 8, 0);
+  std::vector<uint32_t> sources;
+  sources.reserve(news.size());
   for (size_t k = 0; k < news.size(); ++k) {
     const size_t i = news[k]->kp_index;
     const bool expressible = i < n && (k == 0 || i != news[k - 1]->kp_index);
-    if (i < n) msg.new_point_kp_mask[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
+    sources.push_back(static_cast<uint32_t>(i));
     ids_implied = ids_implied && expressible && uint64_t{news[0]->id} + k == news[k]->id && news[k]->id != kNoId;
   }
+  msg.new_point_kp_mask = keypoint_mask(sources, n);
   if (ids_implied) {
     msg.new_point_first_id = news.front()->id;
   } else {
@@ -148,28 +183,22 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   if (!s.ok) return DecodeStatus::failure("KeyFrame " + std::to_string(msg.id) + ": " + s.error);
   const size_t n = r.features.size();
 
-  if (msg.obs_kp_index.size() != msg.obs_point_id.size())
-    return DecodeStatus::failure("obs_kp_index and obs_point_id differ in length");
-  if (msg.obs_kp_index.size() > n) return DecodeStatus::failure("more observations than keypoints");
-  r.observations.reserve(msg.obs_kp_index.size());
-  for (size_t i = 0; i < msg.obs_kp_index.size(); ++i) {
-    if (msg.obs_kp_index[i] >= n)
-      return DecodeStatus::failure("obs_kp_index[" + std::to_string(i) + "] = " +
-                                   std::to_string(msg.obs_kp_index[i]) + " >= keypoints " + std::to_string(n));
+  std::vector<uint32_t> observed;
+  s = keypoints_of_mask(msg.obs_kp_mask, n, "obs_kp_mask", observed);
+  if (!s.ok) return s;
+  if (observed.size() != msg.obs_point_id.size())
+    return DecodeStatus::failure("obs_kp_mask marks " + std::to_string(observed.size()) + " keypoints but obs_point_id has " +
+                                 std::to_string(msg.obs_point_id.size()) + " ids");
+  r.observations.reserve(observed.size());
+  for (size_t i = 0; i < observed.size(); ++i) {
     if (msg.obs_point_id[i] == kNoId) return DecodeStatus::failure("observation of the reserved point id");
-    r.observations.emplace_back(msg.obs_kp_index[i], msg.obs_point_id[i]);
+    r.observations.emplace_back(observed[i], msg.obs_point_id[i]);
   }
 
   // The new points' sources: the set bits of the mask, in keypoint order.
-  const std::vector<uint8_t>& mask = msg.new_point_kp_mask;
-  if (!mask.empty() && mask.size() != (n + 7) / 8)
-    return DecodeStatus::failure("new_point_kp_mask has " + std::to_string(mask.size()) + " bytes, expected " +
-                                 std::to_string((n + 7) / 8) + " (one bit per keypoint) or none");
-  if (!mask.empty() && n % 8 != 0 && (mask.back() >> (n % 8)) != 0)
-    return DecodeStatus::failure("new_point_kp_mask marks a keypoint past the " + std::to_string(n) + " keypoints");
   std::vector<uint32_t> sources;
-  for (size_t i = 0; i < mask.size() * 8 && i < n; ++i)
-    if (mask[i / 8] & (1u << (i % 8))) sources.push_back(static_cast<uint32_t>(i));
+  s = keypoints_of_mask(msg.new_point_kp_mask, n, "new_point_kp_mask", sources);
+  if (!s.ok) return s;
   const size_t m = sources.size();
   if (m > limits.max_new_points) return DecodeStatus::failure("too many new points: " + std::to_string(m));
   const bool ids_implied = msg.new_point_id.empty();

@@ -172,6 +172,25 @@ TEST(BridgeConversion, NewPointSourcesAsAMaskAndIdsCountingUpAsTheFirstOne) {
 }
 
 // Format 5: refuted ids within a range travel as a bit mask when that is smaller than the list.
+// Format 5: the observed keypoints as a mask, the point ids in keypoint order.
+TEST(BridgeConversion, ObservationsInKeypointOrderAsAMaskAndTheirIds) {
+  KeyFrameRecord in = make_keyframe(1000, 0, 0);
+  for (uint32_t i = 0; i < 300; ++i) in.observations.emplace_back(999 - 3 * i, 20000 + 7 * i);  // descending keypoints
+  const edge_slam_msgs::KeyFrame msg = to_message(in);
+  EXPECT_EQ(msg.obs_kp_mask.size(), 125u);
+  KeyFrameRecord out;
+  ASSERT_TRUE(from_message(msg, out).ok);
+  std::vector<std::pair<uint32_t, uint32_t>> sorted = in.observations;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(out.observations, sorted) << "the same pairs, in keypoint order";
+
+  KeyFrameRecord twice = in;
+  twice.observations.emplace_back(999, 55555);  // a second point at one keypoint: the mask cannot say it
+  const DecodeStatus s = from_message(to_message(twice), out);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.error.find("obs_point_id has 301"), std::string::npos) << s.error;
+}
+
 TEST(BridgeConversion, RefutedPointsAsAMaskOverTheirRangeWhenThatIsSmaller) {
   KeyFrameRecord in = make_keyframe(100, 20, 0);
   in.refuted_points.clear();
@@ -214,7 +233,8 @@ TEST(BridgeConversion, RejectsMalformedKeyFrames) {
   { auto m = good; m.kp_depth.clear(); expect_reject(m, "kp_depth length"); }
   { auto m = good; m.pose.position.x = std::nan(""); expect_reject(m, "NaN pose"); }
   { auto m = good; m.pose.orientation.w = 5; expect_reject(m, "non-unit quaternion"); }
-  { auto m = good; m.obs_kp_index[0] = 50; expect_reject(m, "observation index"); }
+  { auto m = good; m.obs_kp_mask[0] ^= 0x01; expect_reject(m, "observation mask and ids disagree"); }
+  { auto m = good; m.obs_kp_mask.pop_back(); expect_reject(m, "observation mask length"); }
   { auto m = good; m.obs_point_id.pop_back(); expect_reject(m, "observation arrays"); }
   { auto m = good; m.new_point_xyz.pop_back(); expect_reject(m, "new point xyz"); }
   { auto m = good; m.new_point_xyz[0] = INFINITY; expect_reject(m, "infinite new point"); }

@@ -73,12 +73,16 @@ TEST(BridgeValidation, KeyFrameFeatureArrays) {
 }
 
 TEST(BridgeValidation, KeyFrameObservationsAndNewPoints) {
-  kf_rejected([](KfMsg& m) { m.obs_point_id.pop_back(); }, "differ in length");
-  kf_rejected([](KfMsg& m) { m.obs_kp_index[3] = 60; }, "obs_kp_index[3]");
+  kf_rejected([](KfMsg& m) { m.obs_point_id.pop_back(); }, "obs_point_id has");
+  kf_rejected([](KfMsg& m) { m.obs_kp_mask[0] ^= 0x01; }, "obs_point_id has");  // a keypoint more or less
+  kf_rejected([](KfMsg& m) { m.obs_kp_mask.back() |= 0x80; }, "past the 60 keypoints");
+  kf_rejected([](KfMsg& m) { m.obs_kp_mask.push_back(0); }, "obs_kp_mask has 9 bytes");
   kf_rejected([](KfMsg& m) { m.obs_point_id[2] = kNoId; }, "reserved point id");
-  kf_rejected([](KfMsg& m) { m.obs_kp_index[1] = m.obs_kp_index[0]; }, "reuses keypoint");
   kf_rejected([](KfMsg& m) { m.obs_point_id[1] = m.obs_point_id[0]; }, "repeats point");
-  kf_rejected([](KfMsg& m) { m.obs_kp_index.resize(61, 0), m.obs_point_id.resize(61, 5); }, "more observations");
+  kf_rejected([](KfMsg& m) {  // keypoint 16 sees a point and is made the source of a new one too
+    m.new_point_kp_mask[2] |= 0x01;
+    m.new_point_xyz.insert(m.new_point_xyz.begin(), {0.3f, 0.1f, 1.2f});
+  }, "reuses keypoint");
   kf_rejected([](KfMsg& m) { m.new_point_xyz.pop_back(); }, "new_point arrays");
   kf_rejected([](KfMsg& m) { m.new_point_kp_mask[3] ^= 0x01; }, "new_point arrays");  // one source more or less
   kf_rejected([](KfMsg& m) { m.new_point_kp_mask.pop_back(); }, "new_point_kp_mask");
