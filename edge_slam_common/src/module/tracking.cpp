@@ -158,15 +158,13 @@ TrackingResult Tracking::track_rgbd(const cv::Mat& color, const cv::Mat& depth, 
     TrackingResult r;
     r.state = state_;
     r.message = std::string("input rejected: ") + e.what();
+    r.input_rejected = true;
     return r;
   }
   TrackingResult r = track_frame(std::move(frame));
   r.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   r.cpu_ms = thread_cpu_ms() - c0;
   r.stages = stage_clock.read();
-  times_ms_.back() = r.time_ms;
-  cpu_times_ms_.back() = r.cpu_ms;
-  stage_times_.back() = r.stages;
   return r;
 }
 
@@ -291,9 +289,6 @@ TrackingResult Tracking::track_frame(Frame frame) {
   result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   result.cpu_ms = thread_cpu_ms() - c0;
   result.stages = StageClock::active()->read();
-  times_ms_.push_back(result.time_ms);
-  cpu_times_ms_.push_back(result.cpu_ms);
-  stage_times_.push_back(result.stages);
   return result;
 }
 

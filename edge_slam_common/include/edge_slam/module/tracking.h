@@ -76,6 +76,7 @@ struct TrackingResult {
   double cpu_ms = 0;              // CPU time of this thread for the same work
   TrackingStageTimes stages;      // the same split by stage (extract, match, pose, local map, KeyFrame)
   std::string message;            // why tracking failed / the input was rejected
+  bool input_rejected = false;    // the images were unusable: no frame was made (times are 0)
   TrackingDiagnostics diag;
   // Filled by MobileSession, for the final trajectory (frames re-anchored on the edge's
   // optimised KeyFrames, as ORB-SLAM2 saves its trajectory; data/trajectory_anchors.h): the
@@ -129,9 +130,6 @@ class Tracking {
 
   TrackingState state() const { return state_; }
   const TrackingCounters& counters() const { return counters_; }
-  const std::vector<double>& frame_times_ms() const { return times_ms_; }      // wall
-  const std::vector<double>& frame_cpu_times_ms() const { return cpu_times_ms_; }
-  const std::vector<TrackingStageTimes>& frame_stage_times() const { return stage_times_; }
   const Frame& last_frame() const { return last_frame_; }
   uint32_t reference_keyframe_id() const { return reference_kf_ ? reference_kf_->id() : kNoId; }
   const OrbExtractor& extractor() const { return extractor_; }
@@ -189,10 +187,10 @@ class Tracking {
   uint64_t last_relocalization_frame_id_ = 0;
   mutable KeyFrameDecisionInput last_decision_;
 
+  // No per-frame history here: each TrackingResult carries its frame's times and the caller
+  // keeps what it needs (the monolithic runner every frame's, the mobile a summary), so a
+  // robot that tracks for hours does not grow by ~100 bytes a frame for figures nobody reads.
   TrackingCounters counters_;
-  std::vector<double> times_ms_;
-  std::vector<double> cpu_times_ms_;
-  std::vector<TrackingStageTimes> stage_times_;
 };
 
 }  // namespace edge_slam
