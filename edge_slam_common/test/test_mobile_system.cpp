@@ -139,5 +139,43 @@ TEST(MobileSystem, TheSenderRecordsWhatItPublishesAndTheFiguresSayIt) {
   EXPECT_EQ(sent_rows, due.records.size());
 }
 
+// What the process keeps alive, apart from RSS (util/heap_usage.h): a "heap" row at most every
+// kHeapSamplePeriodS of the wall clock, and the latest reading and the peak in metrics.json, so
+// a long run tells live data that grows from pages the allocator keeps.
+TEST(MobileSystem, SamplesTheHeapAtItsOwnCadence) {
+#if !defined(__GLIBC__)
+  GTEST_SKIP() << "only glibc reports its heap";
+#endif
+  const RenderedSequence& seq = sequence();
+  Files files;
+  double wall = 200.0;
+  {
+    MobileSystem system(settings(files.run), [&wall] { return wall; });
+    system.start(seq.camera);
+    system.track(seq.colors[0], seq.depths[0], 0.0);
+    system.write_outputs();  // the first reading
+    wall += MobileSystem::kHeapSamplePeriodS - 1.0;
+    system.write_outputs();  // too soon: none
+    wall += 1.0;
+    system.write_outputs();  // the second
+    const std::string metrics = file_text(files.run.metrics);
+    EXPECT_NE(metrics.find("\"heap\": {\"samples\": 2, \"in_use_mb\": "), std::string::npos) << metrics;
+    wall += 0.5;
+  }  // the destructor writes once more: too soon again
+  std::vector<std::map<std::string, std::string>> heap;
+  for (const auto& r : read_csv_rows(files.run.events))
+    if (r.at("event") == "heap") heap.push_back(r);
+  ASSERT_EQ(heap.size(), 2u);
+  EXPECT_EQ(heap[0].at("wall_time"), "200.000000");
+  EXPECT_EQ(heap[1].at("wall_time"), "210.000000");
+  for (const auto& r : heap) {
+    EXPECT_GT(std::stoull(r.at("bytes")), 1000000ull) << "a tracked frame's map and buffers are in use";
+    EXPECT_EQ(r.at("detail").rfind("in_use_kb=" + std::to_string(std::stoull(r.at("bytes")) / 1024) + " kept_free_kb=", 0), 0u)
+        << r.at("detail");
+    EXPECT_NE(r.at("detail").find(" arena_kb="), std::string::npos);
+    EXPECT_NE(r.at("detail").find(" mapped_kb="), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace edge_slam

@@ -52,6 +52,20 @@ def proc_series(run_dir):
     return series
 
 
+def heap_series(run_dir):
+    """The mobile's allocator readings ("heap" rows of mobile_stats.csv, every 10 s, util/heap_usage.h):
+    dict(t [s since the first sample of proc.csv, the same clock as proc_series], in_use_mb,
+    arena_mb), or None when the run has none (a monolithic run, or one older than the readings)."""
+    procs = read_csv(os.path.join(run_dir, "proc.csv"))
+    rows = [r for r in read_csv(os.path.join(run_dir, "mobile_stats.csv")) or [] if r.get("event") == "heap"]
+    if not procs or not rows:
+        return None
+    fields = [dict(kv.split("=", 1) for kv in r["detail"].split()) for r in rows]
+    return {"t": column(rows, "wall_time") - float(procs[0]["t"]),
+            "in_use_mb": np.array([float(f["in_use_kb"]) for f in fields]) / 1024.0,
+            "arena_mb": np.array([float(f["arena_kb"]) for f in fields]) / 1024.0}
+
+
 def cpu_percent(t, cpu_s, window=1.0):
     """CPU % of one process over consecutive windows (cumulative CPU-seconds differenced).
     /proc counts in 10 ms ticks, so a 50 ms sample alone would read in 20 % steps."""

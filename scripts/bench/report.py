@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 from . import ate as ate_tool  # noqa: E402
 from . import pipeline_stats  # noqa: E402
 from . import scaling, speed  # noqa: E402
-from .bench_data import cpu_percent, net_rows, proc_series, read_json  # noqa: E402
+from .bench_data import cpu_percent, heap_series, net_rows, proc_series, read_json  # noqa: E402
 from edge_slam_common.tum import pose_seconds  # noqa: E402
 
 MODES = ["monolithic", "split"]
@@ -691,13 +691,17 @@ def section_wire(wire, rep, section):
 WARM_UP_S = 120.0
 
 
-def rss_slope(p, seconds):
-    """MB/min of a least-squares line through the RSS samples from WARM_UP_S after the process
+def slope_after_warm_up(t, mb, seconds, min_samples=20):
+    """MB/min of a least-squares line through the samples from WARM_UP_S after the process
     started to the end of the camera data (the final global BA after it is not steady state)."""
-    sel = (p["t"] >= WARM_UP_S) & (p["t"] <= seconds)
-    if sel.sum() < 20:
+    sel = (t >= WARM_UP_S) & (t <= seconds)
+    if sel.sum() < min_samples:
         return None
-    return float(np.polyfit(p["t"][sel] / 60.0, p["rss_mb"][sel], 1)[0])
+    return float(np.polyfit(t[sel] / 60.0, mb[sel], 1)[0])
+
+
+def rss_slope(p, seconds):
+    return slope_after_warm_up(p["t"], p["rss_mb"], seconds)
 
 
 def section_long_run(manifest, out, rep, section, bench):
@@ -710,22 +714,35 @@ def section_long_run(manifest, out, rep, section, bench):
         section.line()
         rep.check("mobile_rss_slope", f"not measured: {why}", None)
         return
-    procs, rows, slopes = {}, [], {}
+    procs, rows, slopes, heap_slopes = {}, [], {}, {}
     for mode in MODES:
-        series = proc_series(os.path.join(out, "runs", entry["name"], f"long_{mode}"))
+        run_dir = os.path.join(out, "runs", entry["name"], f"long_{mode}")
+        series = proc_series(run_dir)
+        heap = heap_series(run_dir)
         for role, p in series.items():
             label = f"{role} {mode}" if role == "mobile" else f"edge ({mode})"
             procs[label] = p
             slope = rss_slope(p, entry["seconds"])
             slopes[label] = slope
-            rows.append([label, fmt(p["cpu_s"][-1], ".1f"), fmt(p["rss_mb"].max(), ".0f"), fmt(slope, ".2f", " MB/min")])
-    bench["long_run"] = {"seconds": entry["seconds"], "rss_slope_mb_per_min": slopes, "warm_up_s": WARM_UP_S}
+            # The live heap (what the mobile keeps allocated), every 10 s: a leak shows here, the
+            # allocator's kept pages and non-heap pages do not (util/heap_usage.h).
+            heap_slope = None
+            if role == "mobile" and heap is not None:
+                heap_slope = slope_after_warm_up(heap["t"], heap["in_use_mb"], entry["seconds"], min_samples=5)
+                heap_slopes[label] = heap_slope
+            rows.append([label, fmt(p["cpu_s"][-1], ".1f"), fmt(p["rss_mb"].max(), ".0f"), fmt(slope, ".2f", " MB/min"),
+                         fmt(heap_slope, ".2f", " MB/min")])
+    bench["long_run"] = {"seconds": entry["seconds"], "rss_slope_mb_per_min": slopes,
+                         "heap_in_use_slope_mb_per_min": heap_slopes, "warm_up_s": WARM_UP_S}
     section.line(f"`{entry['name']}`: {entry['seconds'] / 60:.1f} min of camera data (the embedded sequence's closed "
                  f"path driven {entry.get('laps', 20)} times at 15 fps, bench.loop_sequence; the split plays it live "
                  "from the folder with tum_player). RSS slope = least-squares "
-                 f"line through the samples from {WARM_UP_S:.0f} s after start to the end of the camera data.")
+                 f"line through the samples from {WARM_UP_S:.0f} s after start to the end of the camera data. "
+                 "Live heap = what the mobile's process keeps allocated (glibc's own accounting, a reading every "
+                 "10 s in mobile_stats.csv), same window: RSS also counts the free pages the allocator keeps and "
+                 "non-heap pages, so a leak shows in both slopes, fragmentation in RSS only.")
     section.line()
-    section.table(["process", "CPU-seconds", "peak RSS [MB]", "RSS slope after warm-up"], rows)
+    section.table(["process", "CPU-seconds", "peak RSS [MB]", "RSS slope after warm-up", "live heap slope"], rows)
     ran = {r["variant"] for r in entry.get("runs", [])}
     if "long_split" not in ran:
         section.line("Split mode on the long sequence: **not measured** (`make bench BENCH_ARGS=\"--add --only long "
@@ -733,7 +750,8 @@ def section_long_run(manifest, out, rep, section, bench):
         section.line()
     slope = slopes.get("mobile split")
     rep.check("mobile_rss_slope", "not measured: no split long run" if slope is None else
-              f"{slope:.2f} MB/min (monolithic: {fmt(slopes.get('mobile monolithic'), '.2f')} MB/min)", slope)
+              f"{slope:.2f} MB/min (live heap {fmt(heap_slopes.get('mobile split'), '.2f')} MB/min; monolithic: "
+              f"{fmt(slopes.get('mobile monolithic'), '.2f')} MB/min)", slope)
     if plot_cpu_memory(os.path.join(out, "cpu_memory_long.png"), entry["name"], procs):
         section.image("cpu_memory_long.png", "long run CPU and memory")
 

@@ -17,7 +17,7 @@ import numpy as np
 SCRIPTS = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts'))
 sys.path.insert(0, SCRIPTS)
 from bench import pipeline_stats  # noqa: E402
-from bench.bench_data import cpu_percent  # noqa: E402
+from bench.bench_data import cpu_percent, heap_series  # noqa: E402
 from bench.fast_turn import fast_turn  # noqa: E402
 
 
@@ -117,6 +117,37 @@ class CpuPercentTest(unittest.TestCase):
         tc, pct = cpu_percent(t, 0.75 * t)
         self.assertEqual(len(tc), 10)
         np.testing.assert_allclose(pct, 75.0, atol=1e-6)
+
+
+class HeapSeriesTest(unittest.TestCase):
+    """The mobile's "heap" rows (MobileSystem::sample_heap) on proc.csv's clock, for the long
+    run's live-heap slope."""
+
+    def test_reads_heap_rows_on_the_sampler_clock(self):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, 'proc.csv'), 'w') as f:
+                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,mobile,7,0.1,90000\n1000.5,edge,8,0.1,90000\n")
+            with open(os.path.join(d, 'mobile_stats.csv'), 'w', newline='') as f:
+                w = csv.writer(f)
+                w.writerow(['wall_time', 'event', 'bytes', 'detail'])
+                w.writerow(['1001.0', 'frame', '0', 'path=init'])
+                w.writerow(['1010.0', 'heap', str(40 * 1024 * 1024),
+                            'in_use_kb=40960 kept_free_kb=10240 arena_kb=51200 mapped_kb=11776'])
+                w.writerow(['1020.0', 'heap', str(41 * 1024 * 1024),
+                            'in_use_kb=41984 kept_free_kb=9216 arena_kb=51200 mapped_kb=11776'])
+            h = heap_series(d)
+            np.testing.assert_allclose(h['t'], [10.0, 20.0])
+            np.testing.assert_allclose(h['in_use_mb'], [40.0, 41.0])
+            np.testing.assert_allclose(h['arena_mb'], [50.0, 50.0])
+
+    def test_no_heap_rows_no_series(self):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, 'proc.csv'), 'w') as f:
+                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,mobile,7,0.1,90000\n")
+            self.assertIsNone(heap_series(d))  # no mobile_stats.csv (a monolithic run)
+            with open(os.path.join(d, 'mobile_stats.csv'), 'w') as f:
+                f.write("wall_time,event,bytes,detail\n1001.0,frame,0,path=init\n")
+            self.assertIsNone(heap_series(d))  # a run older than the readings
 
 
 class PipelineStatsTest(unittest.TestCase):

@@ -1,5 +1,7 @@
 #include "edge_slam/split/mobile_figures.h"
 
+#include <algorithm>
+
 #include "edge_slam/module/mobile_session.h"
 
 namespace edge_slam {
@@ -38,6 +40,13 @@ void MobileFigures::on_deferred_update(bool accepted, double rebuild_ms) {
   if (accepted) rebuild_ms_.push_back(rebuild_ms);
 }
 
+void MobileFigures::on_heap(const HeapUsage& h) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  heap_last_ = h;
+  heap_in_use_peak_ = std::max(heap_in_use_peak_, h.in_use_bytes);
+  ++heap_samples_;
+}
+
 Figures MobileFigures::stats(const MobileSession& s) const {
   Figures f;
   const TrackingCounters t = s.tracking_counters();
@@ -74,7 +83,8 @@ Figures MobileFigures::stats(const MobileSession& s) const {
       .add("update_bytes_received", static_cast<double>(update_bytes_))
       .add("tracking_ms_last", tracking_ms_.empty() ? 0.0 : tracking_ms_.back())
       .add("rebuild_ms_last", rebuild_ms_.empty() ? 0.0 : rebuild_ms_.back())
-      .add("update_latency_ms_last", update_latency_ms_.empty() ? 0.0 : update_latency_ms_.back());
+      .add("update_latency_ms_last", update_latency_ms_.empty() ? 0.0 : update_latency_ms_.back())
+      .add("heap_in_use_mb", heap_last_.in_use_bytes / 1e6);
   return f;
 }
 
@@ -142,6 +152,14 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .timing("rebuild_ms", rebuild_ms_)
       .timing("update_latency_ms", update_latency_ms_)
       .timing("tracking_ms", tracking_ms_);
+  MetricsJson heap;  // the latest reading and the peak of the periodic ones (MB = 10^6 bytes)
+  heap.integer("samples", static_cast<long long>(heap_samples_))
+      .number("in_use_mb", heap_last_.in_use_bytes / 1e6)
+      .number("in_use_peak_mb", heap_in_use_peak_ / 1e6)
+      .number("kept_free_mb", heap_last_.kept_free_bytes / 1e6)
+      .number("arena_mb", heap_last_.arena_bytes / 1e6)
+      .number("mapped_mb", heap_last_.mapped_bytes / 1e6);
+  m.object("heap", heap);
   return m;
 }
 

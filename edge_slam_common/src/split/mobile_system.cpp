@@ -4,6 +4,7 @@
 
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/heap_usage.h"
 #include "edge_slam/util/log.h"
 
 namespace edge_slam {
@@ -164,6 +165,24 @@ std::string MobileSystem::set_updates_enabled(bool enabled, double data_now) {
   return message;
 }
 
+void MobileSystem::sample_heap() {
+  const double now = clock_();
+  {
+    std::lock_guard<std::mutex> lock(write_mutex_);
+    if (now < next_heap_sample_) return;
+    next_heap_sample_ = now + kHeapSamplePeriodS;
+  }
+  const HeapUsage h = read_heap_usage();
+  if (!h.supported) return;
+  figures_.on_heap(h);
+  EventRow e = row("heap", last_frame_stamp_);
+  e.bytes = h.in_use_bytes;
+  e.detail = "in_use_kb=" + std::to_string(h.in_use_bytes / 1024) + " kept_free_kb=" +
+             std::to_string(h.kept_free_bytes / 1024) + " arena_kb=" + std::to_string(h.arena_bytes / 1024) +
+             " mapped_kb=" + std::to_string(h.mapped_bytes / 1024);
+  recorder_.event(std::move(e));
+}
+
 std::string MobileSystem::reset(double data_now) {
   const auto s = session();
   const bool sent = s->reset();
@@ -183,6 +202,7 @@ Figures MobileSystem::stats() const {
 }
 
 void MobileSystem::write_outputs() {
+  sample_heap();
   recorder_.flush();
   const auto s = session();
   if (!s || !recorder_.writes_metrics()) return;

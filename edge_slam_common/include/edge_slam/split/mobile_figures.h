@@ -1,5 +1,5 @@
 // The mobile's figures: per-frame tracking times, KeyFrame/Frame/update traffic, update
-// latencies, Local-Map rebuild times and the camera frames dropped per problem. Published every
+// latencies, Local-Map rebuild times, the camera frames dropped per problem and the heap. Published every
 // second (stats(): edge_slam_msgs/Stats) and written to metrics.json (json()) in the same shape
 // as the monolithic runner's, plus the split's own. Thread-safe.
 #pragma once
@@ -12,6 +12,7 @@
 #include "edge_slam/module/keyframe_delivery.h"
 #include "edge_slam/split/image_problem.h"
 #include "edge_slam/util/figures.h"
+#include "edge_slam/util/heap_usage.h"
 
 namespace edge_slam {
 
@@ -26,6 +27,7 @@ class MobileFigures {
   void on_frame_sent(size_t bytes);
   void on_update(size_t bytes, double latency_ms, bool accepted, double rebuild_ms);
   void on_deferred_update(bool accepted, double rebuild_ms);
+  void on_heap(const HeapUsage& h);  // a periodic reading (MobileSystem::sample_heap)
 
   Figures stats(const MobileSession& s) const;
   MetricsJson json(const MobileSession& s, const std::string& dataset) const;
@@ -36,6 +38,9 @@ class MobileFigures {
   uint64_t inputs_rejected_ = 0, keyframes_sent_ = 0, frames_sent_ = 0;
   std::array<uint64_t, kImageProblemKinds> images_rejected_{};
   uint64_t keyframe_bytes_ = 0, frame_bytes_ = 0, update_bytes_ = 0;
+  HeapUsage heap_last_;
+  size_t heap_in_use_peak_ = 0;
+  uint64_t heap_samples_ = 0;
 };
 
 // The sender's figures on ~stats: delivery_* counters and link_seconds_since_ack.
