@@ -48,7 +48,9 @@ MetricsJson& MetricsJson::text(const std::string& key, const std::string& value)
   return *this;
 }
 MetricsJson& MetricsJson::timing(const std::string& key, const std::vector<double>& values_ms) {
-  const TimingStats t = summarize_times(values_ms);
+  return timing_summary(key, summarize_times(values_ms));
+}
+MetricsJson& MetricsJson::timing_summary(const std::string& key, const TimingStats& t) {
   MetricsJson inner;
   inner.integer("count", static_cast<long long>(t.count))
       .number("mean", t.mean)

@@ -8,7 +8,7 @@ namespace edge_slam {
 
 void MobileFigures::on_frame(double tracking_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
-  tracking_ms_.push_back(tracking_ms);
+  tracking_ms_.add(tracking_ms);
 }
 void MobileFigures::on_input_rejected(ImageProblem problem) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -32,12 +32,12 @@ void MobileFigures::on_frame_sent(size_t bytes) {
 void MobileFigures::on_update(size_t bytes, double latency_ms, bool accepted, double rebuild_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
   update_bytes_ += bytes;
-  update_latency_ms_.push_back(latency_ms);
-  if (accepted) rebuild_ms_.push_back(rebuild_ms);
+  update_latency_ms_.add(latency_ms);
+  if (accepted) rebuild_ms_.add(rebuild_ms);
 }
 void MobileFigures::on_deferred_update(bool accepted, double rebuild_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (accepted) rebuild_ms_.push_back(rebuild_ms);
+  if (accepted) rebuild_ms_.add(rebuild_ms);
 }
 
 void MobileFigures::on_heap(const HeapUsage& h) {
@@ -81,9 +81,9 @@ Figures MobileFigures::stats(const MobileSession& s) const {
       .add("frames_sent", static_cast<double>(frames_sent_))
       .add("frame_bytes_sent", static_cast<double>(frame_bytes_))
       .add("update_bytes_received", static_cast<double>(update_bytes_))
-      .add("tracking_ms_last", tracking_ms_.empty() ? 0.0 : tracking_ms_.back())
-      .add("rebuild_ms_last", rebuild_ms_.empty() ? 0.0 : rebuild_ms_.back())
-      .add("update_latency_ms_last", update_latency_ms_.empty() ? 0.0 : update_latency_ms_.back())
+      .add("tracking_ms_last", tracking_ms_.last())
+      .add("rebuild_ms_last", rebuild_ms_.last())
+      .add("update_latency_ms_last", update_latency_ms_.last())
       .add("heap_in_use_mb", heap_last_.in_use_bytes / 1e6);
   return f;
 }
@@ -149,9 +149,9 @@ MetricsJson MobileFigures::json(const MobileSession& s, const std::string& datas
       .integer("frames_sent", static_cast<long long>(frames_sent_))
       .integer("frame_bytes_sent", static_cast<long long>(frame_bytes_))
       .integer("update_bytes_received", static_cast<long long>(update_bytes_))
-      .timing("rebuild_ms", rebuild_ms_)
-      .timing("update_latency_ms", update_latency_ms_)
-      .timing("tracking_ms", tracking_ms_);
+      .timing_summary("rebuild_ms", rebuild_ms_.stats())
+      .timing_summary("update_latency_ms", update_latency_ms_.stats())
+      .timing_summary("tracking_ms", tracking_ms_.stats());
   MetricsJson heap;  // the latest reading and the peak of the periodic ones (MB = 10^6 bytes)
   heap.integer("samples", static_cast<long long>(heap_samples_))
       .number("in_use_mb", heap_last_.in_use_bytes / 1e6)

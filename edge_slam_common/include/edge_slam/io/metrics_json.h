@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "edge_slam/util/timing_stats.h"
+
 namespace edge_slam {
 
 class RejectionCounter;
@@ -17,6 +19,7 @@ class MetricsJson {
   MetricsJson& text(const std::string& key, const std::string& value);
   // {"count", "mean", "median", "p95", "max"} of the values (milliseconds).
   MetricsJson& timing(const std::string& key, const std::vector<double>& values_ms);
+  MetricsJson& timing_summary(const std::string& key, const TimingStats& t);  // already summarised
   MetricsJson& raw(const std::string& key, const std::string& json);  // caller-made valid JSON
   MetricsJson& object(const std::string& key, const MetricsJson& inner);
 
