@@ -5,7 +5,8 @@
 // keeps in its arenas between Local-Map updates (fragmentation), and pages that are not heap at
 // all (code and libraries paged in as new paths run, thread stacks). Reading the allocator's own
 // accounting tells the first from the others: on the 10-minute long run (2026-12-07) the live
-// heap was flat at 43-47 MB from minute 3 on while RSS still rose ~0.5 MB/min.
+// heap stayed within 50-57 MB from minute 2 on, while the arenas grew by the free memory they
+// keep and RSS rose 0.3-0.9 MB/min (docs/benchmarks/2026-12-07/mobile_live_heap).
 #pragma once
 #include <cstddef>
 
