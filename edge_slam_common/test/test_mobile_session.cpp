@@ -3,6 +3,8 @@
 // and tracking goes on in the rebuilt Local-Map, the controller blocks updates, reset works.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <opencv2/imgproc.hpp>
 
 #include "edge_slam/data/bow_vocabulary.h"
@@ -14,6 +16,7 @@
 #include "edge_slam/sim/synthetic_camera.h"
 #include "edge_slam/sim/trajectory.h"
 #include "support/split_fixture.h"
+#include "edge_slam/util/instance_count.h"
 #include "edge_slam/util/wall_clock.h"
 
 namespace edge_slam {
@@ -153,12 +156,22 @@ TEST(MobileSession, LocalMapStaysWithinItsCapAndEveryKeyFrameIsStillSent) {
   MobileSessionParams params;
   params.local_map_cap = 3;
   params.keyframe_pacing = MobileSessionParams::KeyFramePacing::kNone;  // many KeyFrames: beyond the cap
+  const int64_t keyframes_before = InstanceCount<KeyFrame>::alive(), points_before = InstanceCount<MapPoint>::alive();
   MobileSession session(seq.camera, OrbParams(), TrackingParams(), seq.vocabulary, params, RgbEncoding::kRgb);
   size_t peak = 0;
   for (int i = 0; i < kFrames; ++i) {
     EXPECT_TRUE(session.track(seq.colors[i], seq.depths[i], i / 15.0).pose_valid) << "frame " << i;
     peak = std::max(peak, session.local_map_keyframes());
   }
+  // What the cap dropped is freed: nobody keeps an evicted KeyFrame or its points alive.
+  const int64_t keyframes_alive = InstanceCount<KeyFrame>::alive() - keyframes_before;
+  const int64_t points_alive = InstanceCount<MapPoint>::alive() - points_before;
+  std::cout << "alive " << keyframes_alive << " KeyFrames (Local-Map " << session.local_map_keyframes() << "), "
+            << points_alive << " points (Local-Map " << session.local_map_points() << ")\n";
+  // Tracking may still hold its reference KeyFrame and the last frame's matched points (at most
+  // one per keypoint) after the cap dropped them from the Local-Map.
+  EXPECT_LE(keyframes_alive, static_cast<int64_t>(session.local_map_keyframes()) + 1);
+  EXPECT_LE(points_alive, static_cast<int64_t>(session.local_map_points() + OrbParams().num_features));
   std::vector<KeyFrameRecord> sent;
   while (auto r = session.outbox().try_pop()) sent.push_back(std::move(*r));
   ASSERT_GT(sent.size(), 4u) << "the walk must make more KeyFrames than the cap for this test to mean anything";

@@ -100,10 +100,7 @@ class SplitRun:
         try:
             if self.netns:
                 self.nets.create()
-            self.spawn('roscore', 'edge', ['roscore', '-p', str(self.port)])
-            self.wait(lambda: subprocess.run(self.wrap('edge', ['rosparam', 'set', '/use_sim_time', 'true']),
-                                             env=self.env('edge'), capture_output=True).returncode == 0,
-                      60, 'the ROS master')
+            self.start_master()
             self.start_edge()
             self.spawn('mobile', 'mobile', ['roslaunch', os.path.join(ROOT, 'launch', 'mobile.launch'),
                                             'slam_config:=' + self.slam_config,
@@ -118,6 +115,45 @@ class SplitRun:
             self.__exit__(None, None, None)
             raise
         return self
+
+    def start_master(self, attempts=3, timeout=60):
+        """roscore on this run's port, answering, with /use_sim_time set. The port was free when
+        free_port() chose it but another process can take it before roscore binds it (a CI run
+        once waited 60 s for a master that never answered): a roscore that exits or stays silent
+        is stopped and started again on a new port; the failure message carries roscore's output."""
+        for attempt in range(attempts):
+            start = self.log_size()
+            self.spawn('roscore', 'edge', ['roscore', '-p', str(self.port)])
+            deadline = time.time() + timeout
+            while time.time() < deadline and self.procs['roscore'].poll() is None:
+                if self.master_answers():
+                    return
+                time.sleep(0.3)
+            said = self.log_since(start)
+            print('roscore on port %d did not answer (attempt %d of %d, exit code %s): %s'
+                  % (self.port, attempt + 1, attempts, self.procs['roscore'].poll(), said[-1500:]), file=sys.stderr)
+            self.stop('roscore')
+            self.port = free_port()
+        raise AssertionError('no ROS master answered in %d attempts of %.0f s; roscore said: %s'
+                             % (attempts, timeout, said[-1500:]))
+
+    def master_answers(self):
+        try:
+            return subprocess.run(self.wrap('edge', ['rosparam', 'set', '/use_sim_time', 'true']), env=self.env('edge'),
+                                  capture_output=True, timeout=20).returncode == 0
+        except subprocess.TimeoutExpired:
+            return False
+
+    def log_size(self):
+        self.log.flush()
+        return os.path.getsize(self.log.name)
+
+    def log_since(self, offset):
+        """What the run's processes wrote to log.txt from `offset` on."""
+        self.log.flush()
+        with open(self.log.name, errors='replace') as f:
+            f.seek(offset)
+            return f.read()
 
     def __exit__(self, *exc):
         for key in list(self.procs)[::-1]:

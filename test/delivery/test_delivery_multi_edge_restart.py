@@ -24,8 +24,7 @@ class TwoRobotRun(SplitRun):
 
     def __enter__(self):
         try:
-            self.spawn('roscore', 'edge', ['roscore', '-p', str(self.port)])
-            self.wait(lambda: self.call_ok(['rosparam', 'set', '/use_sim_time', 'true']), 60, 'the ROS master')
+            self.start_master()
             self.start_edge()
             for k, (robot, bag) in enumerate(ROBOTS.items()):
                 self.spawn(robot, 'mobile', ['roslaunch', os.path.join(ROOT, 'launch', 'robot.launch'), 'robot:=' + robot,
@@ -40,10 +39,6 @@ class TwoRobotRun(SplitRun):
             self.__exit__(None, None, None)
             raise
         return self
-
-    def call_ok(self, cmd):
-        import subprocess
-        return subprocess.run(cmd, env=self.env('edge'), capture_output=True).returncode == 0
 
     def start_edge(self):
         self.spawn('edge', 'edge', ['roslaunch', os.path.join(ROOT, 'launch', 'edge.launch'), 'mobiles:=[robot1, robot2]',

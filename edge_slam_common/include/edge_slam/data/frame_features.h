@@ -10,6 +10,7 @@
 #include "edge_slam/camera/pinhole_camera.h"
 #include "edge_slam/data/feature_grid.h"
 #include "edge_slam/data/scale_pyramid.h"
+#include "edge_slam/util/instance_count.h"
 
 namespace edge_slam {
 
@@ -40,6 +41,7 @@ struct FrameFeatures {
                                                     std::shared_ptr<const ScalePyramid> pyramid,
                                                     std::vector<cv::KeyPoint> keys,
                                                     cv::Mat descriptors, const cv::Mat& depth_image);
+  InstanceCount<FrameFeatures> instance_count_;  // util/instance_count.h: the mobile's heap rows report it
 };
 
 // Undistorted image borders for a camera (the full image when there is no distortion).

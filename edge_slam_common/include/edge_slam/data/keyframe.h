@@ -17,6 +17,7 @@
 #include "edge_slam/data/frame.h"
 #include "edge_slam/data/frame_features.h"
 #include "edge_slam/data/map_point.h"
+#include "edge_slam/util/instance_count.h"
 
 namespace edge_slam {
 
@@ -141,6 +142,7 @@ class KeyFrame {
   std::set<uint32_t> loop_edges_;
 
   std::atomic<bool> bad_{false};
+  InstanceCount<KeyFrame> instance_count_;  // util/instance_count.h: the mobile's heap rows report it
 };
 
 }  // namespace edge_slam

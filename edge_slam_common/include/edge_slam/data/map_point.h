@@ -13,6 +13,7 @@
 #include "edge_slam/data/scale_pyramid.h"
 #include "edge_slam/feature/descriptor_distance.h"
 #include "edge_slam/util/ids.h"
+#include "edge_slam/util/instance_count.h"
 
 namespace edge_slam {
 
@@ -129,6 +130,7 @@ class MapPoint {
   Descriptor descriptor_{};
   std::map<uint32_t, int> observations_;
   uint32_t reference_kf_id_;
+  InstanceCount<MapPoint> instance_count_;  // util/instance_count.h: the mobile's heap rows report it
 };
 
 // One observation's weight in MapPoint::weighted_observations: 2 when keypoint `keypoint_index`
