@@ -8,7 +8,8 @@
 //   srv: ~set_map_updates, ~map_update_status (the map-update controller), ~reset, ~delivery_status
 // Parameters: ~camera_config, ~slam_config, ~vocabulary (files; see config/), ~map_frame,
 // ~camera_frame, ~use_camera_info (true), ~camera_info_timeout (s), ~stats_csv, ~metrics_file,
-// ~trajectory_file, ~anchors_file (empty = not written), ~path_max_poses, ~image_queue_size (2:
+// ~trajectory_file, ~anchors_file (empty = not written), ~path_max_poses (3000: the newest poses
+// ~path holds; bridge/bounded_path.h says why so few), ~image_queue_size (2:
 // a live camera drops frames when tracking falls behind; evaluation sets it deep). Bad input is
 // counted, logged once per kind of problem, then throttled, and dropped (malformed map_updates:
 // rejected_invalid; camera frames: images_rejected_*); out-of-range parameters refuse the start.
@@ -71,7 +72,7 @@ class MobileNodelet : public nodelet::Nodelet {
     int image_queue_size = 2;
     try {
       camera_info_timeout_ = edge_slam::param_in_range(pnh, "camera_info_timeout", 2.0, 0.0, 600.0);
-      path_.set_max_poses(edge_slam::param_in_range(pnh, "path_max_poses", 20000, 1, 10000000));
+      path_.set_max_poses(edge_slam::param_in_range(pnh, "path_max_poses", static_cast<int>(edge_slam::BoundedPath::kDefaultMaxPoses), 1, 1000000));
       image_queue_size = edge_slam::param_in_range(pnh, "image_queue_size", 2, 1, 10000);
       const edge_slam::NodeConfig config = edge_slam::load_node_config(pnh);
       yaml_camera_ = config.camera;
@@ -258,7 +259,7 @@ class MobileNodelet : public nodelet::Nodelet {
     geometry_msgs::PoseStamped p;
     p.header = tf.header;
     p.pose = odom.pose.pose;
-    path_.add(p, path_pub_);
+    path_.add(p, [this](const nav_msgs::Path& path) { path_pub_.publish(path); });
   }
 
   void publish_map() {
