@@ -4,9 +4,10 @@
 // program keeps (a leak or an ever-growing history shows here), the free chunks the allocator
 // keeps in its arenas between Local-Map updates (fragmentation), and pages that are not heap at
 // all (code and libraries paged in as new paths run, thread stacks). Reading the allocator's own
-// accounting tells the first from the others: on the 10-minute long run (2026-12-07) the live
-// heap stayed within 50-57 MB from minute 2 on, while the arenas grew by the free memory they
-// keep and RSS rose 0.3-0.9 MB/min (docs/benchmarks/2026-12-07/mobile_live_heap).
+// accounting tells the first from the others. With the object counts beside it (instance_count.h)
+// it found what grew on the long run: not the Local-Map but the mobile's latched rviz path,
+// whose growing serialisation buffers also fragmented the arenas (RSS 0.31-0.93 MB/min before
+// the fix, 0.13 / 0.33 after; docs/benchmarks/2026-12-07/mobile_path_growth).
 #pragma once
 #include <cstddef>
 
