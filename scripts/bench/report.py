@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 from . import ate as ate_tool  # noqa: E402
 from . import pipeline_stats  # noqa: E402
 from . import scaling, speed  # noqa: E402
-from .bench_data import cpu_percent, heap_series, net_rows, proc_series, read_json  # noqa: E402
+from .bench_data import cpu_percent, heap_series, net_rows, objects_beyond_local_map, proc_series, read_json  # noqa: E402
 from edge_slam_common.tum import pose_seconds  # noqa: E402
 
 MODES = ["monolithic", "split"]
@@ -726,12 +726,13 @@ def section_long_run(manifest, out, rep, section, bench):
             slopes[label] = slope
             # The live heap (what the mobile keeps allocated), every 10 s: a leak shows here, the
             # allocator's kept pages and non-heap pages do not (util/heap_usage.h).
-            heap_slope = None
+            heap_slope, beyond = None, "n/a"
             if role == "mobile" and heap is not None:
                 heap_slope = slope_after_warm_up(heap["t"], heap["in_use_mb"], entry["seconds"], min_samples=5)
                 heap_slopes[label] = heap_slope
+                beyond = objects_beyond_local_map(heap)
             rows.append([label, fmt(p["cpu_s"][-1], ".1f"), fmt(p["rss_mb"].max(), ".0f"), fmt(slope, ".2f", " MB/min"),
-                         fmt(heap_slope, ".2f", " MB/min")])
+                         fmt(heap_slope, ".2f", " MB/min"), beyond])
     bench["long_run"] = {"seconds": entry["seconds"], "rss_slope_mb_per_min": slopes,
                          "heap_in_use_slope_mb_per_min": heap_slopes, "warm_up_s": WARM_UP_S}
     section.line(f"`{entry['name']}`: {entry['seconds'] / 60:.1f} min of camera data (the embedded sequence's closed "
@@ -740,9 +741,13 @@ def section_long_run(manifest, out, rep, section, bench):
                  f"line through the samples from {WARM_UP_S:.0f} s after start to the end of the camera data. "
                  "Live heap = what the mobile's process keeps allocated (glibc's own accounting, a reading every "
                  "10 s in mobile_stats.csv), same window: RSS also counts the free pages the allocator keeps and "
-                 "non-heap pages, so a leak shows in both slopes, fragmentation in RSS only.")
+                 "non-heap pages, so a leak shows in both slopes, fragmentation in RSS only. Map objects beyond "
+                 "the Local-Map = KeyFrames / points alive in the mobile's process minus those its Local-Map holds, "
+                 "the largest reading and the last: tracking's last frame and an update being installed hold some "
+                 "for a moment; a count that grows is a leak of map objects.")
     section.line()
-    section.table(["process", "CPU-seconds", "peak RSS [MB]", "RSS slope after warm-up", "live heap slope"], rows)
+    section.table(["process", "CPU-seconds", "peak RSS [MB]", "RSS slope after warm-up", "live heap slope",
+                   "map objects beyond the Local-Map, max (last)"], rows)
     ran = {r["variant"] for r in entry.get("runs", [])}
     if "long_split" not in ran:
         section.line("Split mode on the long sequence: **not measured** (`make bench BENCH_ARGS=\"--add --only long "

@@ -17,7 +17,7 @@ import numpy as np
 SCRIPTS = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts'))
 sys.path.insert(0, SCRIPTS)
 from bench import pipeline_stats  # noqa: E402
-from bench.bench_data import cpu_percent, heap_series  # noqa: E402
+from bench.bench_data import cpu_percent, heap_series, objects_beyond_local_map  # noqa: E402
 from bench.fast_turn import fast_turn  # noqa: E402
 
 
@@ -139,6 +139,25 @@ class HeapSeriesTest(unittest.TestCase):
             np.testing.assert_allclose(h['t'], [10.0, 20.0])
             np.testing.assert_allclose(h['in_use_mb'], [40.0, 41.0])
             np.testing.assert_allclose(h['arena_mb'], [50.0, 50.0])
+            self.assertIsNone(h['points_beyond_local_map'])  # rows older than the object counts
+
+    def test_map_objects_beyond_the_local_map(self):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, 'proc.csv'), 'w') as f:
+                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,mobile,7,0.1,90000\n")
+            with open(os.path.join(d, 'mobile_stats.csv'), 'w', newline='') as f:
+                w = csv.writer(f)
+                w.writerow(['wall_time', 'event', 'bytes', 'detail'])
+                counts = [(50, 17000, 50, 16800), (56, 19000, 50, 17000), (50, 17100, 50, 17100)]
+                for k, (kfs, pts, map_kfs, map_pts) in enumerate(counts):
+                    w.writerow([str(1010.0 + 10 * k), 'heap', '0',
+                                'in_use_kb=40960 kept_free_kb=10240 arena_kb=51200 mapped_kb=11776 keyframes_alive=%d '
+                                'points_alive=%d features_alive=51 local_map_keyframes=%d local_map_points=%d'
+                                % (kfs, pts, map_kfs, map_pts)])
+            h = heap_series(d)
+            np.testing.assert_allclose(h['keyframes_beyond_local_map'], [0, 6, 0])
+            np.testing.assert_allclose(h['points_beyond_local_map'], [200, 2000, 0])
+            self.assertEqual(objects_beyond_local_map(h), "6 / 2000 (0 / 0)")
 
     def test_no_heap_rows_no_series(self):
         with tempfile.TemporaryDirectory() as d:
