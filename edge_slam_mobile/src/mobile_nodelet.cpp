@@ -259,7 +259,11 @@ class MobileNodelet : public nodelet::Nodelet {
     geometry_msgs::PoseStamped p;
     p.header = tf.header;
     p.pose = odom.pose.pose;
-    path_.add(p, [this](const nav_msgs::Path& path) { path_pub_.publish(path); });
+    // Latched: roscpp would serialise the whole path at each publish even with nobody listening.
+    // The poses are kept either way, so a subscriber that comes later gets them at the next one.
+    path_.add(p, [this](const nav_msgs::Path& path) {
+      if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path);
+    });
   }
 
   void publish_map() {

@@ -6,8 +6,9 @@
 // 20,000 poses the mobile's path grew by ~100 bytes a frame for 22 minutes at 15 fps (the
 // 0.15 MB/min of live heap the 20-minute long run showed beyond its Local-Map) and each publish
 // serialised up to 1.8 MB, three times a second: a load that grows with the time the robot has
-// been running. The poses' storage is reserved once, so it stays the same size all along.
-// Thread-safe: the image callback adds, a service clears.
+// been running. The poses' storage is reserved once, so it stays the same size all along, and
+// the mobile nodelet only publishes while someone subscribes. Thread-safe: the image callback
+// adds, a service clears.
 #pragma once
 #include <nav_msgs/Path.h>
 
