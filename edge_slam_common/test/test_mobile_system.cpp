@@ -140,7 +140,7 @@ TEST(MobileSystem, TheSenderRecordsWhatItPublishesAndTheFiguresSayIt) {
 }
 
 // What the process keeps alive, apart from RSS (util/heap_usage.h): a "heap" row at most every
-// kHeapSamplePeriodS of the wall clock, and the latest reading and the peak in metrics.json, so
+// MemorySampleClock::kPeriodS of the wall clock, and the latest reading and the peak in metrics.json, so
 // a long run tells live data that grows from pages the allocator keeps.
 TEST(MobileSystem, SamplesTheHeapAtItsOwnCadence) {
 #if !defined(__GLIBC__)
@@ -154,7 +154,7 @@ TEST(MobileSystem, SamplesTheHeapAtItsOwnCadence) {
     system.start(seq.camera);
     system.track(seq.colors[0], seq.depths[0], 0.0);
     system.write_outputs();  // the first reading
-    wall += MobileSystem::kHeapSamplePeriodS - 1.0;
+    wall += MemorySampleClock::kPeriodS - 1.0;
     system.write_outputs();  // too soon: none
     wall += 1.0;
     system.write_outputs();  // the second
@@ -174,6 +174,9 @@ TEST(MobileSystem, SamplesTheHeapAtItsOwnCadence) {
         << r.at("detail");
     EXPECT_NE(r.at("detail").find(" arena_kb="), std::string::npos);
     EXPECT_NE(r.at("detail").find(" mapped_kb="), std::string::npos);
+    // The map objects alive beside what the Local-Map holds (one KeyFrame after the first frame).
+    EXPECT_NE(r.at("detail").find(" keyframes_alive="), std::string::npos) << r.at("detail");
+    EXPECT_NE(r.at("detail").find(" local_map_keyframes=1 local_map_points="), std::string::npos) << r.at("detail");
   }
 }
 

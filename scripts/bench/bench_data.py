@@ -52,34 +52,34 @@ def proc_series(run_dir):
     return series
 
 
-def heap_series(run_dir):
-    """The mobile's allocator readings ("heap" rows of mobile_stats.csv, every 10 s, util/heap_usage.h):
+def heap_series(run_dir, side="mobile"):
+    """A node's allocator readings ("heap" rows of <side>_stats.csv, every 10 s, split/memory_row.h):
     dict(t [s since the first sample of proc.csv, the same clock as proc_series], in_use_mb,
-    arena_mb, keyframes_beyond_local_map, points_beyond_local_map), or None when the run has none
-    (a monolithic run, or one older than the readings)."""
+    arena_mb, keyframes_beyond_map, points_beyond_map), or None when the run has none (a monolithic
+    run, or one older than the readings)."""
     procs = read_csv(os.path.join(run_dir, "proc.csv"))
-    rows = [r for r in read_csv(os.path.join(run_dir, "mobile_stats.csv")) or [] if r.get("event") == "heap"]
+    rows = [r for r in read_csv(os.path.join(run_dir, f"{side}_stats.csv")) or [] if r.get("event") == "heap"]
     if not procs or not rows:
         return None
     fields = [dict(kv.split("=", 1) for kv in r["detail"].split()) for r in rows]
     series = {"t": column(rows, "wall_time") - float(procs[0]["t"]),
               "in_use_mb": np.array([float(f["in_use_kb"]) for f in fields]) / 1024.0,
               "arena_mb": np.array([float(f["arena_kb"]) for f in fields]) / 1024.0}
-    # KeyFrames and points alive in the process beyond what the Local-Map holds (util/instance_count.h;
-    # None for rows older than the counts): tracking's last frame and an update being installed hold
-    # some for a moment; a count that keeps growing is a leak of map objects.
+    # KeyFrames and points alive in the process beyond what the node's map holds (the mobile's
+    # Local-Map, the edge's Global-Map; None for rows older than the counts): tracking's last frame
+    # and an update being built or installed hold some for a moment; a count that keeps growing is a
+    # leak of map objects.
     for name in ("keyframes", "points"):
-        if all(f"{name}_alive" in f and f"local_map_{name}" in f for f in fields):
-            series[f"{name}_beyond_local_map"] = np.array(
-                [float(f[f"{name}_alive"]) - float(f[f"local_map_{name}"]) for f in fields])
-        else:
-            series[f"{name}_beyond_local_map"] = None
+        held = next((f"{m}_{name}" for m in ("local_map", "global_map")
+                     if all(f"{name}_alive" in f and f"{m}_{name}" in f for f in fields)), None)
+        series[f"{name}_beyond_map"] = None if held is None else np.array(
+            [float(f[f"{name}_alive"]) - float(f[held]) for f in fields])
     return series
 
 
-def objects_beyond_local_map(heap):
-    """'KeyFrames / points' alive beyond the Local-Map, largest reading (last reading)."""
-    kfs, pts = heap.get("keyframes_beyond_local_map"), heap.get("points_beyond_local_map")
+def objects_beyond_map(heap):
+    """'KeyFrames / points' alive beyond the node's map, largest reading (last reading)."""
+    kfs, pts = heap.get("keyframes_beyond_map"), heap.get("points_beyond_map")
     if kfs is None or pts is None or not len(kfs):
         return "n/a"
     return f"{kfs.max():.0f} / {pts.max():.0f} ({kfs[-1]:.0f} / {pts[-1]:.0f})"

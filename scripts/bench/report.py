@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 from . import ate as ate_tool  # noqa: E402
 from . import pipeline_stats  # noqa: E402
 from . import scaling, speed  # noqa: E402
-from .bench_data import cpu_percent, heap_series, net_rows, objects_beyond_local_map, proc_series, read_json  # noqa: E402
+from .bench_data import cpu_percent, heap_series, net_rows, objects_beyond_map, proc_series, read_json  # noqa: E402
 from edge_slam_common.tum import pose_seconds  # noqa: E402
 
 MODES = ["monolithic", "split"]
@@ -718,19 +718,20 @@ def section_long_run(manifest, out, rep, section, bench):
     for mode in MODES:
         run_dir = os.path.join(out, "runs", entry["name"], f"long_{mode}")
         series = proc_series(run_dir)
-        heap = heap_series(run_dir)
         for role, p in series.items():
             label = f"{role} {mode}" if role == "mobile" else f"edge ({mode})"
             procs[label] = p
             slope = rss_slope(p, entry["seconds"])
             slopes[label] = slope
-            # The live heap (what the mobile keeps allocated), every 10 s: a leak shows here, the
-            # allocator's kept pages and non-heap pages do not (util/heap_usage.h).
+            # The live heap (what the node keeps allocated), every 10 s: a leak shows here, the
+            # allocator's kept pages and non-heap pages do not (split/memory_row.h). The split's
+            # nodes write it; the monolithic process does not.
+            heap = heap_series(run_dir, role) if mode == "split" else None
             heap_slope, beyond = None, "n/a"
-            if role == "mobile" and heap is not None:
+            if heap is not None:
                 heap_slope = slope_after_warm_up(heap["t"], heap["in_use_mb"], entry["seconds"], min_samples=5)
                 heap_slopes[label] = heap_slope
-                beyond = objects_beyond_local_map(heap)
+                beyond = objects_beyond_map(heap)
             rows.append([label, fmt(p["cpu_s"][-1], ".1f"), fmt(p["rss_mb"].max(), ".0f"), fmt(slope, ".2f", " MB/min"),
                          fmt(heap_slope, ".2f", " MB/min"), beyond])
     bench["long_run"] = {"seconds": entry["seconds"], "rss_slope_mb_per_min": slopes,
@@ -742,12 +743,13 @@ def section_long_run(manifest, out, rep, section, bench):
                  "Live heap = what the mobile's process keeps allocated (glibc's own accounting, a reading every "
                  "10 s in mobile_stats.csv), same window: RSS also counts the free pages the allocator keeps and "
                  "non-heap pages, so a leak shows in both slopes, fragmentation in RSS only. Map objects beyond "
-                 "the Local-Map = KeyFrames / points alive in the mobile's process minus those its Local-Map holds, "
-                 "the largest reading and the last: tracking's last frame and an update being installed hold some "
-                 "for a moment; a count that grows is a leak of map objects.")
+                 "the map = KeyFrames / points alive in the node's process minus those its map holds (the "
+                 "mobile's Local-Map, the edge's Global-Map), the largest reading and the last: tracking's last "
+                 "frame and an update being built or installed hold some for a moment; a count that grows is a "
+                 "leak of map objects.")
     section.line()
     section.table(["process", "CPU-seconds", "peak RSS [MB]", "RSS slope after warm-up", "live heap slope",
-                   "map objects beyond the Local-Map, max (last)"], rows)
+                   "map objects beyond the map, max (last)"], rows)
     ran = {r["variant"] for r in entry.get("runs", [])}
     if "long_split" not in ran:
         section.line("Split mode on the long sequence: **not measured** (`make bench BENCH_ARGS=\"--add --only long "

@@ -17,7 +17,7 @@ import numpy as np
 SCRIPTS = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'scripts'))
 sys.path.insert(0, SCRIPTS)
 from bench import pipeline_stats  # noqa: E402
-from bench.bench_data import cpu_percent, heap_series, objects_beyond_local_map  # noqa: E402
+from bench.bench_data import cpu_percent, heap_series, objects_beyond_map  # noqa: E402
 from bench.fast_turn import fast_turn  # noqa: E402
 
 
@@ -139,7 +139,7 @@ class HeapSeriesTest(unittest.TestCase):
             np.testing.assert_allclose(h['t'], [10.0, 20.0])
             np.testing.assert_allclose(h['in_use_mb'], [40.0, 41.0])
             np.testing.assert_allclose(h['arena_mb'], [50.0, 50.0])
-            self.assertIsNone(h['points_beyond_local_map'])  # rows older than the object counts
+            self.assertIsNone(h['points_beyond_map'])  # rows older than the object counts
 
     def test_map_objects_beyond_the_local_map(self):
         with tempfile.TemporaryDirectory() as d:
@@ -155,9 +155,24 @@ class HeapSeriesTest(unittest.TestCase):
                                 'points_alive=%d features_alive=51 local_map_keyframes=%d local_map_points=%d'
                                 % (kfs, pts, map_kfs, map_pts)])
             h = heap_series(d)
-            np.testing.assert_allclose(h['keyframes_beyond_local_map'], [0, 6, 0])
-            np.testing.assert_allclose(h['points_beyond_local_map'], [200, 2000, 0])
-            self.assertEqual(objects_beyond_local_map(h), "6 / 2000 (0 / 0)")
+            np.testing.assert_allclose(h['keyframes_beyond_map'], [0, 6, 0])
+            np.testing.assert_allclose(h['points_beyond_map'], [200, 2000, 0])
+            self.assertEqual(objects_beyond_map(h), "6 / 2000 (0 / 0)")
+
+    def test_the_edge_counts_against_its_global_map(self):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, 'proc.csv'), 'w') as f:
+                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,edge,8,0.1,90000\n")
+            with open(os.path.join(d, 'edge_stats.csv'), 'w', newline='') as f:
+                w = csv.writer(f)
+                w.writerow(['wall_time', 'event', 'bytes', 'detail'])
+                w.writerow(['1010.0', 'heap', '0', 'in_use_kb=102400 kept_free_kb=0 arena_kb=102400 mapped_kb=0 '
+                            'keyframes_alive=212 points_alive=30500 features_alive=212 global_map_keyframes=200 '
+                            'global_map_points=30000'])
+            h = heap_series(d, 'edge')
+            np.testing.assert_allclose(h['in_use_mb'], [100.0])
+            self.assertEqual(objects_beyond_map(h), "12 / 500 (12 / 500)")
+            self.assertIsNone(heap_series(d))  # no mobile_stats.csv in this folder
 
     def test_no_heap_rows_no_series(self):
         with tempfile.TemporaryDirectory() as d:

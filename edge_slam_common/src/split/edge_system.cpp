@@ -3,6 +3,7 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/metrics_json.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/heap_usage.h"
 #include "edge_slam/util/log.h"
 #include "edge_slam/util/robot_ids.h"
 
@@ -301,7 +302,22 @@ EdgeKeyFrames EdgeSystem::world_keyframes() const {
   return k;
 }
 
+void EdgeSystem::sample_memory() {
+  {
+    std::lock_guard<std::mutex> lock(write_mutex_);
+    if (!heap_clock_.due(clock_())) return;
+  }
+  const HeapUsage h = read_heap_usage();
+  if (!h.supported) return;
+  EventRow e = row("heap", -1);
+  e.bytes = h.in_use_bytes;
+  const auto map = session_->global_map();
+  e.detail = memory_row_detail(h, "global_map", map->num_keyframes(), map->num_map_points());
+  recorder_.event(std::move(e));
+}
+
 void EdgeSystem::write_outputs() {
+  sample_memory();
   recorder_.flush();
   if (!recorder_.writes_metrics() && !recorder_.writes_keyframes()) return;
   std::lock_guard<std::mutex> write_lock(write_mutex_);

@@ -2,13 +2,10 @@
 
 #include <cstdio>
 
-#include "edge_slam/data/frame_features.h"
-#include "edge_slam/data/keyframe.h"
-#include "edge_slam/data/map_point.h"
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/split/memory_row.h"
 #include "edge_slam/util/heap_usage.h"
-#include "edge_slam/util/instance_count.h"
 #include "edge_slam/util/log.h"
 
 namespace edge_slam {
@@ -170,28 +167,17 @@ std::string MobileSystem::set_updates_enabled(bool enabled, double data_now) {
 }
 
 void MobileSystem::sample_heap() {
-  const double now = clock_();
   {
     std::lock_guard<std::mutex> lock(write_mutex_);
-    if (now < next_heap_sample_) return;
-    next_heap_sample_ = now + kHeapSamplePeriodS;
+    if (!heap_clock_.due(clock_())) return;
   }
   const HeapUsage h = read_heap_usage();
   if (!h.supported) return;
   figures_.on_heap(h);
   EventRow e = row("heap", last_frame_stamp_);
   e.bytes = h.in_use_bytes;
-  e.detail = "in_use_kb=" + std::to_string(h.in_use_bytes / 1024) + " kept_free_kb=" +
-             std::to_string(h.kept_free_bytes / 1024) + " arena_kb=" + std::to_string(h.arena_bytes / 1024) +
-             " mapped_kb=" + std::to_string(h.mapped_bytes / 1024);
-  // The map objects alive in the whole process next to what the Local-Map holds: more alive
-  // than held, growing, is a leak of map objects; the same counts with a growing heap is not.
-  e.detail += " keyframes_alive=" + std::to_string(InstanceCount<KeyFrame>::alive()) +
-              " points_alive=" + std::to_string(InstanceCount<MapPoint>::alive()) +
-              " features_alive=" + std::to_string(InstanceCount<FrameFeatures>::alive());
-  if (const auto s = session())
-    e.detail += " local_map_keyframes=" + std::to_string(s->local_map_keyframes()) +
-                " local_map_points=" + std::to_string(s->local_map_points());
+  const auto s = session();
+  e.detail = memory_row_detail(h, "local_map", s ? s->local_map_keyframes() : 0, s ? s->local_map_points() : 0);
   recorder_.event(std::move(e));
 }
 

@@ -16,6 +16,7 @@
 #include "edge_slam/io/run_recorder.h"
 #include "edge_slam/module/edge_session.h"
 #include "edge_slam/split/edge_durability.h"
+#include "edge_slam/split/memory_row.h"
 #include "edge_slam/util/figures.h"
 #include "edge_slam/util/log_throttle.h"
 #include "edge_slam/util/rejection_log.h"
@@ -78,7 +79,9 @@ class EdgeSystem {
   bool load_map(const std::string& path, std::string* message);
 
   Figures stats() const;
-  void write_outputs();  // every second and at shutdown: CSV flushed, metrics.json, the KeyFrames file
+  // Every second and at shutdown: CSV flushed, metrics.json, the KeyFrames file; every
+  // MemorySampleClock::kPeriodS also a "heap" row (split/memory_row.h) in the CSV.
+  void write_outputs();
 
   const EdgeSystemSettings& settings() const { return settings_; }
   const EdgeSession& session() const { return *session_; }
@@ -88,6 +91,9 @@ class EdgeSystem {
 
  private:
   EventRow row(const char* event, double data_time) const;
+  // The allocator's figures and the map objects alive beside the Global-Map's, at most every
+  // MemorySampleClock::kPeriodS (wall): a leak shows apart from the map's growth.
+  void sample_memory();
   EdgeKeyFrames world_keyframes() const;
 
   EdgeSystemSettings settings_;
@@ -115,6 +121,7 @@ class EdgeSystem {
   std::vector<std::vector<double>> update_latency_by_robot_;  // build start -> published, ms
   std::vector<std::vector<double>> keyframe_latency_by_robot_;
   std::mutex write_mutex_;  // write_outputs: timer and destructor
+  MemorySampleClock heap_clock_;  // wall clock; under write_mutex_
 };
 
 }  // namespace edge_slam

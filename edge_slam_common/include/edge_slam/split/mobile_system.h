@@ -17,6 +17,7 @@
 #include "edge_slam/io/run_recorder.h"
 #include "edge_slam/module/mobile_session.h"
 #include "edge_slam/split/keyframe_sender.h"
+#include "edge_slam/split/memory_row.h"
 #include "edge_slam/split/mobile_figures.h"
 #include "edge_slam/util/rejection_log.h"
 
@@ -74,17 +75,17 @@ class MobileSystem {
   // --- timers ---
   Figures stats() const;  // ~stats: session, traffic and delivery figures
   // Every second and at shutdown: the CSV, trajectory and anchors flushed, metrics.json rewritten;
-  // every kHeapSamplePeriodS also a "heap" row (util/heap_usage.h) in the CSV.
+  // every MemorySampleClock::kPeriodS also a "heap" row (split/memory_row.h) in the CSV.
   void write_outputs();
-  static constexpr double kHeapSamplePeriodS = 10.0;
   uint64_t images_rejected(ImageProblem problem) const { return figures_.images_rejected(problem); }
 
  private:
   void report_update(uint64_t seq, MapUpdateKind kind, const UpdateOutcome& out, size_t bytes, double latency_ms,
                      double data_now, bool after_deferral);
   EventRow row(const char* event, double data_time) const;
-  // The allocator's figures, at most every kHeapSamplePeriodS (wall): what the process keeps
-  // alive, apart from RSS, which also counts kept-free heap and non-heap pages.
+  // The allocator's figures and the map objects alive, at most every MemorySampleClock::kPeriodS
+  // (wall): what the process keeps alive, apart from RSS, which also counts kept-free heap and
+  // non-heap pages.
   void sample_heap();
 
   MobileSystemSettings settings_;
@@ -99,7 +100,7 @@ class MobileSystem {
   RejectionLog malformed_updates_{"rejecting a malformed map update", "rejecting malformed map updates"};
   LogThrottle tracking_warning_{5.0}, update_error_{5.0}, metrics_error_{30.0};
   std::mutex write_mutex_;  // write_outputs: timer and destructor
-  double next_heap_sample_ = 0;  // wall clock; under write_mutex_
+  MemorySampleClock heap_clock_;  // wall clock; under write_mutex_
 };
 
 }  // namespace edge_slam
