@@ -120,21 +120,27 @@ class CpuPercentTest(unittest.TestCase):
 
 
 class HeapSeriesTest(unittest.TestCase):
-    """The mobile's "heap" rows (MobileSystem::sample_heap) on proc.csv's clock, for the long
-    run's live-heap slope."""
+    """The nodes' "heap" rows (split/memory_row.h) on proc.csv's clock, for the long run's
+    live-heap slope and the map objects alive beyond each node's map."""
+
+    @staticmethod
+    def write_run(d, roles, stats_file, rows):
+        """proc.csv with one sample per role at t = 1000, and `stats_file` with (wall_time, event,
+        detail) rows."""
+        with open(os.path.join(d, 'proc.csv'), 'w') as f:
+            f.write("t,role,pid,cpu_s,rss_kb\n" + "".join("1000.0,%s,7,0.1,90000\n" % r for r in roles))
+        with open(os.path.join(d, stats_file), 'w', newline='') as f:
+            w = csv.writer(f)
+            w.writerow(['wall_time', 'event', 'bytes', 'detail'])
+            for wall, event, detail in rows:
+                w.writerow([str(wall), event, '0', detail])
 
     def test_reads_heap_rows_on_the_sampler_clock(self):
         with tempfile.TemporaryDirectory() as d:
-            with open(os.path.join(d, 'proc.csv'), 'w') as f:
-                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,mobile,7,0.1,90000\n1000.5,edge,8,0.1,90000\n")
-            with open(os.path.join(d, 'mobile_stats.csv'), 'w', newline='') as f:
-                w = csv.writer(f)
-                w.writerow(['wall_time', 'event', 'bytes', 'detail'])
-                w.writerow(['1001.0', 'frame', '0', 'path=init'])
-                w.writerow(['1010.0', 'heap', str(40 * 1024 * 1024),
-                            'in_use_kb=40960 kept_free_kb=10240 arena_kb=51200 mapped_kb=11776'])
-                w.writerow(['1020.0', 'heap', str(41 * 1024 * 1024),
-                            'in_use_kb=41984 kept_free_kb=9216 arena_kb=51200 mapped_kb=11776'])
+            self.write_run(d, ['mobile', 'edge'], 'mobile_stats.csv', [
+                (1001.0, 'frame', 'path=init'),
+                (1010.0, 'heap', 'in_use_kb=40960 kept_free_kb=10240 arena_kb=51200 mapped_kb=11776'),
+                (1020.0, 'heap', 'in_use_kb=41984 kept_free_kb=9216 arena_kb=51200 mapped_kb=11776')])
             h = heap_series(d)
             np.testing.assert_allclose(h['t'], [10.0, 20.0])
             np.testing.assert_allclose(h['in_use_mb'], [40.0, 41.0])
@@ -142,18 +148,12 @@ class HeapSeriesTest(unittest.TestCase):
             self.assertIsNone(h['points_beyond_map'])  # rows older than the object counts
 
     def test_map_objects_beyond_the_local_map(self):
+        counts = [(50, 17000, 50, 16800), (56, 19000, 50, 17000), (50, 17100, 50, 17100)]
         with tempfile.TemporaryDirectory() as d:
-            with open(os.path.join(d, 'proc.csv'), 'w') as f:
-                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,mobile,7,0.1,90000\n")
-            with open(os.path.join(d, 'mobile_stats.csv'), 'w', newline='') as f:
-                w = csv.writer(f)
-                w.writerow(['wall_time', 'event', 'bytes', 'detail'])
-                counts = [(50, 17000, 50, 16800), (56, 19000, 50, 17000), (50, 17100, 50, 17100)]
-                for k, (kfs, pts, map_kfs, map_pts) in enumerate(counts):
-                    w.writerow([str(1010.0 + 10 * k), 'heap', '0',
-                                'in_use_kb=40960 kept_free_kb=10240 arena_kb=51200 mapped_kb=11776 keyframes_alive=%d '
-                                'points_alive=%d features_alive=51 local_map_keyframes=%d local_map_points=%d'
-                                % (kfs, pts, map_kfs, map_pts)])
+            self.write_run(d, ['mobile'], 'mobile_stats.csv', [
+                (1010.0 + 10 * k, 'heap', 'in_use_kb=40960 kept_free_kb=10240 arena_kb=51200 mapped_kb=11776 '
+                 'keyframes_alive=%d points_alive=%d features_alive=51 local_map_keyframes=%d local_map_points=%d'
+                 % c) for k, c in enumerate(counts)])
             h = heap_series(d)
             np.testing.assert_allclose(h['keyframes_beyond_map'], [0, 6, 0])
             np.testing.assert_allclose(h['points_beyond_map'], [200, 2000, 0])
@@ -161,14 +161,9 @@ class HeapSeriesTest(unittest.TestCase):
 
     def test_the_edge_counts_against_its_global_map(self):
         with tempfile.TemporaryDirectory() as d:
-            with open(os.path.join(d, 'proc.csv'), 'w') as f:
-                f.write("t,role,pid,cpu_s,rss_kb\n1000.0,edge,8,0.1,90000\n")
-            with open(os.path.join(d, 'edge_stats.csv'), 'w', newline='') as f:
-                w = csv.writer(f)
-                w.writerow(['wall_time', 'event', 'bytes', 'detail'])
-                w.writerow(['1010.0', 'heap', '0', 'in_use_kb=102400 kept_free_kb=0 arena_kb=102400 mapped_kb=0 '
-                            'keyframes_alive=212 points_alive=30500 features_alive=212 global_map_keyframes=200 '
-                            'global_map_points=30000'])
+            self.write_run(d, ['edge'], 'edge_stats.csv', [
+                (1010.0, 'heap', 'in_use_kb=102400 kept_free_kb=0 arena_kb=102400 mapped_kb=0 keyframes_alive=212 '
+                 'points_alive=30500 features_alive=212 global_map_keyframes=200 global_map_points=30000')])
             h = heap_series(d, 'edge')
             np.testing.assert_allclose(h['in_use_mb'], [100.0])
             self.assertEqual(objects_beyond_map(h), "12 / 500 (12 / 500)")
@@ -179,8 +174,7 @@ class HeapSeriesTest(unittest.TestCase):
             with open(os.path.join(d, 'proc.csv'), 'w') as f:
                 f.write("t,role,pid,cpu_s,rss_kb\n1000.0,mobile,7,0.1,90000\n")
             self.assertIsNone(heap_series(d))  # no mobile_stats.csv (a monolithic run)
-            with open(os.path.join(d, 'mobile_stats.csv'), 'w') as f:
-                f.write("wall_time,event,bytes,detail\n1001.0,frame,0,path=init\n")
+            self.write_run(d, ['mobile'], 'mobile_stats.csv', [(1001.0, 'frame', 'path=init')])
             self.assertIsNone(heap_series(d))  # a run older than the readings
 
 
