@@ -7,7 +7,8 @@
 // accounting tells the first from the others. With the object counts beside it (instance_count.h)
 // it found what grew on the long run: not the Local-Map but the mobile's latched rviz path,
 // whose growing serialisation buffers also fragmented the arenas (RSS 0.31-0.93 MB/min before
-// the fix, 0.13 / 0.33 / 0.05 after; docs/benchmarks/2026-12-07/mobile_path_growth).
+// the fix, 0.05-1.11 in four runs after, the live heap flat; what is left is the arena keeping
+// the largest Local-Map so far; docs/benchmarks/2026-12-07/mobile_path_growth).
 #pragma once
 #include <cstddef>
 
