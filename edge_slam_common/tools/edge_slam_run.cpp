@@ -259,7 +259,7 @@ int main(int argc, char** argv) {
         .integer("keyframes_created", c.keyframes_created)
         .integer("map_points", static_cast<long long>(map->num_map_points()));
     add_module_figures(m, collect_module_figures(slam.local_mapping(), slam.loop_closing()));
-    m.timing("tracking_cpu_ms", cpu_ms).timing("tracking_ms", wall_ms);
+    m.timing_summary("tracking_cpu_ms", cpu).timing_summary("tracking_ms", t);
     // Per stage (util/stage_clock.h), CPU and wall: {"extract": {count, mean, median, p95, max}, ...}.
     MetricsJson stage_cpu, stage_wall;
     for (int s = 0; s < kTrackingStages; ++s) {

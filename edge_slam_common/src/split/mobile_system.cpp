@@ -166,7 +166,7 @@ std::string MobileSystem::set_updates_enabled(bool enabled, double data_now) {
   return message;
 }
 
-void MobileSystem::sample_heap() {
+void MobileSystem::sample_memory() {
   {
     std::lock_guard<std::mutex> lock(write_mutex_);
     if (!heap_clock_.due(clock_())) return;
@@ -200,7 +200,7 @@ Figures MobileSystem::stats() const {
 }
 
 void MobileSystem::write_outputs() {
-  sample_heap();
+  sample_memory();
   recorder_.flush();
   const auto s = session();
   if (!s || !recorder_.writes_metrics()) return;

@@ -41,7 +41,7 @@ struct FrameFeatures {
                                                     std::shared_ptr<const ScalePyramid> pyramid,
                                                     std::vector<cv::KeyPoint> keys,
                                                     cv::Mat descriptors, const cv::Mat& depth_image);
-  InstanceCount<FrameFeatures> instance_count_;  // util/instance_count.h: the mobile's heap rows report it
+  InstanceCount<FrameFeatures> instance_count_;  // util/instance_count.h: both nodes' memory rows report it
 };
 
 // Undistorted image borders for a camera (the full image when there is no distortion).

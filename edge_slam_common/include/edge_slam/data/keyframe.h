@@ -142,7 +142,7 @@ class KeyFrame {
   std::set<uint32_t> loop_edges_;
 
   std::atomic<bool> bad_{false};
-  InstanceCount<KeyFrame> instance_count_;  // util/instance_count.h: the mobile's heap rows report it
+  InstanceCount<KeyFrame> instance_count_;  // util/instance_count.h: both nodes' memory rows report it
 };
 
 }  // namespace edge_slam

@@ -130,7 +130,7 @@ class MapPoint {
   Descriptor descriptor_{};
   std::map<uint32_t, int> observations_;
   uint32_t reference_kf_id_;
-  InstanceCount<MapPoint> instance_count_;  // util/instance_count.h: the mobile's heap rows report it
+  InstanceCount<MapPoint> instance_count_;  // util/instance_count.h: both nodes' memory rows report it
 };
 
 // One observation's weight in MapPoint::weighted_observations: 2 when keypoint `keypoint_index`

@@ -28,7 +28,7 @@ class MobileFigures {
   void on_frame_sent(size_t bytes);
   void on_update(size_t bytes, double latency_ms, bool accepted, double rebuild_ms);
   void on_deferred_update(bool accepted, double rebuild_ms);
-  void on_heap(const HeapUsage& h);  // a periodic reading (MobileSystem::sample_heap)
+  void on_heap(const HeapUsage& h);  // a periodic reading (MobileSystem::sample_memory)
 
   Figures stats(const MobileSession& s) const;
   MetricsJson json(const MobileSession& s, const std::string& dataset) const;

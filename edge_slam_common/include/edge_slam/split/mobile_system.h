@@ -86,7 +86,7 @@ class MobileSystem {
   // The allocator's figures and the map objects alive, at most every MemorySampleClock::kPeriodS
   // (wall): what the process keeps alive, apart from RSS, which also counts kept-free heap and
   // non-heap pages.
-  void sample_heap();
+  void sample_memory();
 
   MobileSystemSettings settings_;
   WallClock clock_;
