@@ -23,7 +23,6 @@
 // kind in metrics.json) and logged once per kind of problem, then throttled; nothing crashes.
 #include <edge_slam/module/update_trigger.h>
 #include <edge_slam/split/edge_system.h>
-#include <edge_slam/util/heap_usage.h>
 #include <edge_slam/util/robot_ids.h>
 #include <edge_slam_bridge/ack_conversion.h>
 #include <edge_slam_bridge/checked_subscriber.h>
@@ -143,8 +142,8 @@ class EdgeNodelet : public nodelet::Nodelet {
       checkpoint_timer_ = nh.createWallTimer(ros::WallDuration(settings.durability.checkpoint_period),
                                              [this](const ros::WallTimerEvent&) { system_->checkpoint("periodic"); });
     publish_world_frames();
-    NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map for %d mobile(s), updates every %.1f s, "
-                 "memory allocator %s", system_->robots(), update_period, edge_slam::heap_allocator_name());
+    NODELET_INFO("edge ready: Local-Mapping + Loop-Closing on the Global-Map for %d mobile(s), updates every %.1f s",
+                 system_->robots(), update_period);
   }
 
   // One mobile's topics: KeyFrames, Frames and the floor in; updates and acknowledgements out.

@@ -14,7 +14,6 @@
 // counted, logged once per kind of problem, then throttled, and dropped (malformed map_updates:
 // rejected_invalid; camera frames: images_rejected_*); out-of-range parameters refuse the start.
 #include <edge_slam/split/mobile_system.h>
-#include <edge_slam/util/heap_usage.h>
 #include <edge_slam/util/robot_ids.h>
 #include <edge_slam_bridge/ack_conversion.h>
 #include <edge_slam_bridge/bounded_path.h>
@@ -128,8 +127,8 @@ class MobileNodelet : public nodelet::Nodelet {
     stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { publish_stats(); });
     running_ = true;
     sender_ = std::thread([this] { send_keyframes(); });
-    NODELET_INFO("mobile ready: Local-Map tracking, KeyFrame conditions 3-5, intrinsics from %s, memory allocator %s",
-                 use_camera_info_ ? "camera_info (YAML if none arrives)" : "YAML", edge_slam::heap_allocator_name());
+    NODELET_INFO("mobile ready: Local-Map tracking, KeyFrame conditions 3-5, intrinsics from %s",
+                 use_camera_info_ ? "camera_info (YAML if none arrives)" : "YAML");
   }
 
   // Image thread only (or onInit before any callback).

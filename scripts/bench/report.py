@@ -727,22 +727,21 @@ def section_long_run(manifest, out, rep, section, bench):
             # allocator's kept pages and non-heap pages do not (split/memory_row.h). The split's
             # nodes write it; the monolithic process does not.
             heap = heap_series(run_dir, role) if mode == "split" else None
-            heap_slope, beyond, allocator = None, "n/a", "n/a"
+            heap_slope, beyond = None, "n/a"
             if heap is not None:
                 heap_slope = slope_after_warm_up(heap["t"], heap["in_use_mb"], entry["seconds"], min_samples=5)
                 heap_slopes[label] = heap_slope
                 beyond = objects_beyond_map(heap)
-                allocator = heap["allocator"] or "n/a"
             rows.append([label, fmt(p["cpu_s"][-1], ".1f"), fmt(p["rss_mb"].max(), ".0f"), fmt(slope, ".2f", " MB/min"),
-                         fmt(heap_slope, ".2f", " MB/min"), beyond, allocator])
+                         fmt(heap_slope, ".2f", " MB/min"), beyond])
     bench["long_run"] = {"seconds": entry["seconds"], "rss_slope_mb_per_min": slopes,
                          "heap_in_use_slope_mb_per_min": heap_slopes, "warm_up_s": WARM_UP_S}
     section.line(f"`{entry['name']}`: {entry['seconds'] / 60:.1f} min of camera data (the embedded sequence's closed "
                  f"path driven {entry.get('laps', 20)} times at 15 fps, bench.loop_sequence; the split plays it live "
                  "from the folder with tum_player). RSS slope = least-squares "
                  f"line through the samples from {WARM_UP_S:.0f} s after start to the end of the camera data. "
-                 "Live heap = what the node's process keeps allocated (its allocator's own accounting, glibc's "
-                 "malloc or jemalloc as launched, a reading every 10 s in <node>_stats.csv), same window: RSS also counts the free pages the allocator keeps and "
+                 "Live heap = what the mobile's process keeps allocated (glibc's own accounting, a reading every "
+                 "10 s in mobile_stats.csv), same window: RSS also counts the free pages the allocator keeps and "
                  "non-heap pages, so a leak shows in both slopes, fragmentation in RSS only. Map objects beyond "
                  "the map = KeyFrames / points alive in the node's process minus those its map holds (the "
                  "mobile's Local-Map, the edge's Global-Map), the largest reading and the last: tracking's last "
@@ -750,7 +749,7 @@ def section_long_run(manifest, out, rep, section, bench):
                  "leak of map objects.")
     section.line()
     section.table(["process", "CPU-seconds", "peak RSS [MB]", "RSS slope after warm-up", "live heap slope",
-                   "map objects beyond the map, max (last)", "allocator"], rows)
+                   "map objects beyond the map, max (last)"], rows)
     ran = {r["variant"] for r in entry.get("runs", [])}
     if "long_split" not in ran:
         section.line("Split mode on the long sequence: **not measured** (`make bench BENCH_ARGS=\"--add --only long "

@@ -9,7 +9,7 @@ namespace edge_slam {
 
 std::string memory_row_detail(const HeapUsage& heap, const char* map_name, size_t map_keyframes, size_t map_points) {
   const std::string map(map_name);
-  return "allocator=" + std::string(heap.allocator) + " in_use_kb=" + std::to_string(heap.in_use_bytes / 1024) +
+  return "in_use_kb=" + std::to_string(heap.in_use_bytes / 1024) +
          " kept_free_kb=" + std::to_string(heap.kept_free_bytes / 1024) +
          " arena_kb=" + std::to_string(heap.arena_bytes / 1024) +
          " mapped_kb=" + std::to_string(heap.mapped_bytes / 1024) +

@@ -1,7 +1,6 @@
 // One reading of a node's memory for the long run: the allocator's own figures (util/heap_usage.h)
 // and the map objects alive in the process (util/instance_count.h) next to what the node's map
-// holds, written as the detail of a "heap" row of its CSV (key=value pairs, the allocator's name
-// first, read by
+// holds, written as the detail of a "heap" row of its CSV (key=value pairs, read by
 // scripts/bench/bench_data.py). Alive beyond what the map holds, growing, is a leak of map
 // objects; a growing heap with the same counts is not.
 #pragma once

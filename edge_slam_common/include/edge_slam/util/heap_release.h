@@ -5,13 +5,12 @@
 // the long-lived objects allocated in between fragment them: on the 6-minute long synthetic
 // run the mobile's in-use heap stayed at 46-50 MB while its free-but-kept heap grew from 33 to
 // 46 MB and RSS rose 1.6 MB/min. malloc_trim(0) returns every whole free page of every arena.
-// On jemalloc (allocator:=jemalloc) every arena's unused dirty pages are purged instead.
 #pragma once
 
 namespace edge_slam {
 
 struct HeapRelease {
-  bool supported = false;  // false: this allocator cannot give pages back (nothing was done)
+  bool supported = false;  // false: this C library cannot give pages back (nothing was done)
   bool released = false;   // some memory went back to the system
   double ms = 0;           // wall time of the call
 };

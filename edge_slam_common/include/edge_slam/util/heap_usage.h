@@ -15,23 +15,15 @@
 namespace edge_slam {
 
 struct HeapUsage {
-  bool supported = false;    // false: this allocator does not report (every figure 0)
-  const char* allocator = "none";  // whose figures these are: "glibc" or "jemalloc"
+  bool supported = false;    // false: this C library does not report (every figure 0)
   size_t in_use_bytes = 0;   // handed out by malloc and not freed yet (small and large blocks)
-  size_t kept_free_bytes = 0;  // free memory the allocator keeps (glibc: free chunks, resident or
-                               // not; jemalloc: resident pages beyond the live blocks)
-  size_t arena_bytes = 0;    // glibc: the arenas' size, in use (small blocks) + kept free;
-                             // jemalloc: its resident pages (data, metadata, freed pages not yet returned)
-  size_t mapped_bytes = 0;   // glibc: large blocks, each its own mapping (part of in_use_bytes); jemalloc: 0
+  size_t kept_free_bytes = 0;  // free chunks the arenas keep (resident or not)
+  size_t arena_bytes = 0;    // the arenas' size: in use (small blocks) + kept free
+  size_t mapped_bytes = 0;   // large blocks, each its own mapping (part of in_use_bytes)
 };
 
-// The allocator that serves the process: jemalloc when it is loaded (preloaded by the launch
-// files' allocator:=jemalloc), else glibc's malloc (util/jemalloc_control.h finds out at run time).
 // glibc: mallinfo2() over every arena; it walks the arenas' free lists (tens of microseconds),
-// so call it at a slow cadence, not per frame. jemalloc: its "stats." counters after an epoch.
+// so call it at a slow cadence, not per frame.
 HeapUsage read_heap_usage();
-
-// "glibc" or "jemalloc" (or "unknown"): for the nodes' start-up log line.
-const char* heap_allocator_name();
 
 }  // namespace edge_slam
