@@ -96,6 +96,8 @@ TEST(EdgeSystem, CountsRecordsAndPublishesWhatTheNodeletUsedToDoItself) {
     ++heap_rows;
     EXPECT_EQ(r.at("detail").rfind("in_use_kb=", 0), 0u) << r.at("detail");
     EXPECT_NE(r.at("detail").find(" keyframes_alive="), std::string::npos) << r.at("detail");
+    // edge_slam/edge_release_free_heap (default): the free pages went back after the reading.
+    EXPECT_NE(r.at("detail").find(" release_ms="), std::string::npos) << r.at("detail");
     EXPECT_NE(r.at("detail").find(" global_map_keyframes=" + std::to_string(mobile.sent.size()) + " global_map_points="),
               std::string::npos) << r.at("detail");
   }

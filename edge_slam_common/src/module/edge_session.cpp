@@ -39,6 +39,7 @@ EdgeSessionParams load_edge_session_params(const ConfigMap& cfg) {
   p.keyframe = load_keyframe_decision_params(cfg);  // conditions 1-2: the tracker's own settings
   p.late_keyframe_age = cfg.get_double_or("edge_slam/late_keyframe_age", 1.0, 0.0, 3600.0);
   p.reanchor_late_keyframes = cfg.get_bool_or("edge_slam/reanchor_late_keyframes", true);
+  p.release_free_heap = cfg.get_bool_or("edge_slam/edge_release_free_heap", true);
   p.update_period = cfg.get_double_or("edge_slam/update_period", 5.0, 0.05, 3600.0);
   p.update_trigger.divergence_m = cfg.get_double_or("edge_slam/update_on_divergence", 0.0, 0.0, 10.0);
   using Moves = UpdateTriggerParams::Moves;

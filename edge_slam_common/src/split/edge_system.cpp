@@ -3,6 +3,7 @@
 #include "edge_slam/io/config_file.h"
 #include "edge_slam/io/metrics_json.h"
 #include "edge_slam/module/tracking_params.h"
+#include "edge_slam/util/heap_release.h"
 #include "edge_slam/util/heap_usage.h"
 #include "edge_slam/util/log.h"
 #include "edge_slam/util/robot_ids.h"
@@ -313,6 +314,11 @@ void EdgeSystem::sample_memory() {
   e.bytes = h.in_use_bytes;
   const auto map = session_->global_map();
   e.detail = memory_row_detail(h, "global_map", map->num_keyframes(), map->num_map_points());
+  // After the reading, so the row shows what the allocator had kept since the last release.
+  if (settings_.session.release_free_heap) {
+    const HeapRelease released = release_free_heap_pages();
+    e.detail += " release_ms=" + std::to_string(released.ms);
+  }
   recorder_.event(std::move(e));
 }
 
