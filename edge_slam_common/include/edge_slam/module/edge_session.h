@@ -65,8 +65,10 @@ struct EdgeSessionParams {
   bool reanchor_late_keyframes = true;
   // The edge's process gives its heap's free pages back to the system at each memory reading
   // (EdgeSystem, every MemorySampleClock::kPeriodS; util/heap_release.h): the BA problems of
-  // Local-Mapping and the full BAs free hundreds of MB that glibc otherwise keeps resident
-  // (10-minute long run: 357 of 486 MB of arena kept free). false = leave it to the allocator.
+  // Local-Mapping and the full BAs are freed into memory glibc otherwise keeps (10-minute long
+  // run: 357 of 486 MB of arena kept free). Long runs: mean RSS 9% lower back to back, the peak
+  // (a BA between two releases) not (docs/benchmarks/2026-12-07/edge_heap_release). false = leave
+  // it to the allocator.
   bool release_free_heap = true;
   size_t neighbours_per_candidate = 10;     // relocalization update: connected KeyFrames kept
   size_t max_update_keyframes = 50;         // relocalization update cap = the mobile's Local-Map cap
