@@ -3,7 +3,7 @@
 import csv, sys, numpy as np
 d=sys.argv[1]
 rows=[r for r in csv.DictReader(open(d+'/proc.csv')) if r['role']=='edge']
-t=np.array([float(r['t']) for r in rows]); c=np.array([float(r['cpu_s']) for r in rows]); m=np.array([float(r['rss_kb']) for r in rows])/1024
+t=np.array([float(r['t']) for r in rows]); m=np.array([float(r['rss_kb']) for r in rows])/1024
 t0=t[0]; t-=t0
 heap=[r for r in csv.DictReader(open(d+'/edge_stats.csv')) if r['event']=='heap']
 H=[(float(r['wall_time'])-t0, dict(kv.split('=',1) for kv in r['detail'].split())) for r in heap]

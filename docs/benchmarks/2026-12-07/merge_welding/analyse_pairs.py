@@ -1,4 +1,5 @@
-# Run with the project's venv (evo) and PYTHONPATH=scripts.
+# One line per run of the welding pairs (README.md, runs.txt). Usage, with the project's venv (evo):
+#   PYTHONPATH=scripts .venv/bin/python3 analyse_pairs.py <folder holding the runs r<i>_weld, r<i>_noweld>
 import json, sys, re, glob, os, numpy as np
 from bench.ate import aligned  # evo: association and SE(3) alignment, as the bench's figures
 
@@ -12,8 +13,6 @@ def max_step(run, robot):
     return 100 * e[k], est.timestamps[k + 1] - est.timestamps[0]
 
 
-rows = {}
-# usage: analyse_pairs.py <folder holding the runs r<i>_weld, r<i>_noweld (make eval MODE=multi OUT=...)>
 for run in sorted(glob.glob(os.path.join(sys.argv[1], 'r*_*'))):
     if not os.path.isdir(run) or not os.path.exists(f'{run}/metrics.json'): continue
     m = json.load(open(f'{run}/metrics.json'))

@@ -92,7 +92,8 @@ class EdgeSystem {
  private:
   EventRow row(const char* event, double data_time) const;
   // The allocator's figures and the map objects alive beside the Global-Map's, at most every
-  // MemorySampleClock::kPeriodS (wall): a leak shows apart from the map's growth.
+  // MemorySampleClock::kPeriodS (wall): a leak shows apart from the map's growth. Then, with
+  // EdgeSessionParams::release_free_heap, the free heap pages go back (the row's release_ms).
   void sample_memory();
   EdgeKeyFrames world_keyframes() const;
 
