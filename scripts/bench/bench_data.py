@@ -55,8 +55,9 @@ def proc_series(run_dir):
 def heap_series(run_dir, side="mobile"):
     """A node's allocator readings ("heap" rows of <side>_stats.csv, every 10 s, split/memory_row.h):
     dict(t [s since the first sample of proc.csv, the same clock as proc_series], in_use_mb,
-    arena_mb, keyframes_beyond_map, points_beyond_map), or None when the run has none (a monolithic
-    run, or one older than the readings)."""
+    arena_mb, keyframes_beyond_map, points_beyond_map, release_ms: the edge's free-page release after
+    each reading, None where the rows have none), or None when the run has none (a monolithic run,
+    or one older than the readings)."""
     procs = read_csv(os.path.join(run_dir, "proc.csv"))
     rows = [r for r in read_csv(os.path.join(run_dir, f"{side}_stats.csv")) or [] if r.get("event") == "heap"]
     if not procs or not rows:
@@ -64,7 +65,9 @@ def heap_series(run_dir, side="mobile"):
     fields = [dict(kv.split("=", 1) for kv in r["detail"].split()) for r in rows]
     series = {"t": column(rows, "wall_time") - float(procs[0]["t"]),
               "in_use_mb": np.array([float(f["in_use_kb"]) for f in fields]) / 1024.0,
-              "arena_mb": np.array([float(f["arena_kb"]) for f in fields]) / 1024.0}
+              "arena_mb": np.array([float(f["arena_kb"]) for f in fields]) / 1024.0,
+              "release_ms": (np.array([float(f["release_ms"]) for f in fields])
+                             if all("release_ms" in f for f in fields) else None)}
     # KeyFrames and points alive in the process beyond what the node's map holds (the mobile's
     # Local-Map, the edge's Global-Map; None for rows older than the counts): tracking's last frame
     # and an update being built or installed hold some for a moment; a count that keeps growing is a

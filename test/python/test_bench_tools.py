@@ -146,6 +146,7 @@ class HeapSeriesTest(unittest.TestCase):
             np.testing.assert_allclose(h['in_use_mb'], [40.0, 41.0])
             np.testing.assert_allclose(h['arena_mb'], [50.0, 50.0])
             self.assertIsNone(h['points_beyond_map'])  # rows older than the object counts
+            self.assertIsNone(h['release_ms'])  # the mobile releases after updates, not per reading
 
     def test_map_objects_beyond_the_local_map(self):
         counts = [(50, 17000, 50, 16800), (56, 19000, 50, 17000), (50, 17100, 50, 17100)]
@@ -163,9 +164,11 @@ class HeapSeriesTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             self.write_run(d, ['edge'], 'edge_stats.csv', [
                 (1010.0, 'heap', 'in_use_kb=102400 kept_free_kb=0 arena_kb=102400 mapped_kb=0 keyframes_alive=212 '
-                 'points_alive=30500 features_alive=212 global_map_keyframes=200 global_map_points=30000')])
+                 'points_alive=30500 features_alive=212 global_map_keyframes=200 global_map_points=30000 '
+                 'release_ms=12.5')])
             h = heap_series(d, 'edge')
             np.testing.assert_allclose(h['in_use_mb'], [100.0])
+            np.testing.assert_allclose(h['release_ms'], [12.5])
             self.assertEqual(objects_beyond_map(h), "12 / 500 (12 / 500)")
             self.assertIsNone(heap_series(d))  # no mobile_stats.csv in this folder
 
