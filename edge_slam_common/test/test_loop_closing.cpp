@@ -9,6 +9,7 @@
 
 #include "edge_slam/data/keyframe_database.h"
 #include "edge_slam/data/map_edit.h"
+#include "edge_slam/match/keyframe_search.h"
 #include "edge_slam/module/loop_closing.h"
 #include "synthetic_map.h"
 
@@ -251,6 +252,103 @@ TEST(LoopClosing, ALoopInOneRobotsMapLeavesTheOtherRobotsMapWhereItIs) {
     EXPECT_TRUE(other[i]->T_cw().isApprox(other_poses[i], 0.0)) << "robot 1's KeyFrame " << other[i]->id() << " moved";
   for (const auto& [id, position] : other_positions)
     EXPECT_EQ(ring.map->map_point(id)->position(), position) << "robot 1's point " << id << " moved";
+}
+
+// With several robots the loop correction hands its fusion search to a window without the map
+// lock (the other robots' mapping goes on). The search must only read: at the start of that
+// window (LoopClosing::on_map_moved, called just before the lock is released) the closing
+// KeyFrame's group has been moved and nothing is fused yet; the correction reports two holds.
+// With one robot, one hold as in ORB-SLAM2.
+TEST(LoopClosing, WithSeveralRobotsTheFusionSearchRunsBetweenTwoHoldsOfTheMapLock) {
+  const World w = cylinder();
+  for (const bool several : {true, false}) {
+    SCOPED_TRACE(several ? "several robots" : "one robot");
+    Ring ring = build_ring(w);
+    LoopClosingParams params;
+    params.full_ba = false;  // its result is applied under the lock too: not what is counted here
+    LoopClosing loop(ring.map, ring.db, nullptr, params);
+    if (several) loop.group_of = [](uint32_t) { return 0; };
+    std::vector<Eigen::Isometry3d> drifted;
+    for (const auto& kf : ring.kfs) drifted.push_back(kf->T_cw());
+    struct Call {
+      bool closing_kf_moved;
+      int weight_to_first_kfs;
+    };
+    std::vector<Call> calls;
+    int closing = -1;
+    loop.on_map_moved = [&] {
+      int weight = 0;
+      for (int i = 0; i < 8; ++i) weight += ring.kfs[closing]->weight(ring.kfs[i]->id());
+      calls.push_back(Call{!ring.kfs[closing]->T_cw().isApprox(drifted[closing], 1e-9), weight});
+    };
+    for (int i = 0; i < kKeyFrames && loop.loops_closed() == 0; ++i) {
+      ring.db->add(ring.kfs[i]);
+      closing = i;
+      loop.process_keyframe(ring.kfs[i]);
+    }
+    ASSERT_EQ(loop.loops_closed(), 1);
+    const LoopCorrectionReport& r = loop.loops()[0].correction;
+    EXPECT_GT(r.fused_points, 100);
+    EXPECT_GT(r.fuse_search_ms, 0.0);
+    ASSERT_EQ(loop.correction_locked_times_ms().size(), 1u);
+    ASSERT_EQ(loop.correction_longest_lock_times_ms().size(), 1u);
+    const double locked = loop.correction_locked_times_ms()[0], longest = loop.correction_longest_lock_times_ms()[0];
+    if (several) {
+      ASSERT_EQ(calls.size(), 3u);  // the lock taken, released for the search, given back at the end
+      EXPECT_FALSE(calls[0].closing_kf_moved);
+      EXPECT_TRUE(calls[1].closing_kf_moved);
+      EXPECT_EQ(calls[1].weight_to_first_kfs, 0) << "fused before the search had run";
+      EXPECT_GT(calls[2].weight_to_first_kfs, 15);
+      EXPECT_LT(longest, locked);
+      EXPECT_LE(locked + r.fuse_search_ms, loop.correction_times_ms()[0] + 1e-6);
+    } else {
+      ASSERT_EQ(calls.size(), 2u);
+      EXPECT_GT(calls[1].weight_to_first_kfs, 15);
+      EXPECT_DOUBLE_EQ(longest, locked);
+    }
+  }
+}
+
+// fuse() in two halves: the search reads only, and the matches applied to the map as it is then
+// give what fuse() gives on the same map; a point that went bad between the two is skipped, and a
+// keypoint whose point was erased meanwhile takes the match as a new observation.
+TEST(FusionSearch, FindThenApplyIsFuseAndSeesTheMapAsItIsWhenApplied) {
+  const World w = cylinder();
+  FuseOptions options;
+  options.th = 4.f;
+  options.projected_wins = true;
+  options.check_reprojection = false;
+  // A ring without drift; KeyFrame 36 (a full turn on) sees KeyFrame 0's view again through
+  // points of its own: their duplicates, projected into KeyFrame 0.
+  const auto duplicates = [](const Ring& ring) {
+    std::vector<std::shared_ptr<MapPoint>> points;
+    for (const auto& mp : ring.kfs[36]->map_points(*ring.map))
+      if (mp) points.push_back(mp);
+    return points;
+  };
+  const auto no_drift = [&] { return build_ring(w, kKeyFrames, kKeyFrames); };
+  Ring a = no_drift(), b = no_drift();
+  const int fused = fuse(*a.map, a.kfs[0], a.kfs[0]->T_cw(), duplicates(a), options);
+  ASSERT_GT(fused, 20);
+  const auto ids_b_before = b.kfs[0]->map_point_ids();
+  const FusionMatches m = find_fusion_matches(b.kfs[0], b.kfs[0]->T_cw(), duplicates(b), options);
+  EXPECT_EQ(b.kfs[0]->map_point_ids(), ids_b_before) << "the search changed the KeyFrame";
+  EXPECT_EQ(apply_fusion_matches(*b.map, m, options), fused);
+  EXPECT_EQ(b.kfs[0]->map_point_ids(), a.kfs[0]->map_point_ids());
+
+  // Between search and apply: one matched point erased, one matched keypoint's point erased.
+  Ring c = no_drift();
+  const FusionMatches mc = find_fusion_matches(c.kfs[0], c.kfs[0]->T_cw(), duplicates(c), options);
+  ASSERT_GE(mc.pairs.size(), 2u);
+  const auto gone = mc.pairs[0].first;
+  erase_map_point(*c.map, gone);
+  const size_t freed_kp = mc.pairs[1].second;
+  const uint32_t freed_id = c.kfs[0]->map_point_id(freed_kp);
+  ASSERT_NE(freed_id, kNoId);
+  erase_map_point(*c.map, c.map->map_point(freed_id));
+  EXPECT_EQ(apply_fusion_matches(*c.map, mc, options), static_cast<int>(mc.pairs.size()) - 1);
+  EXPECT_LT(gone->index_in(c.kfs[0]->id()), 0);
+  EXPECT_EQ(c.kfs[0]->map_point_id(freed_kp), mc.pairs[1].first->id());
 }
 
 // After a loop or merge, the robots working in that map wait min_keyframes_after_loop KeyFrames

@@ -219,53 +219,94 @@ int search_by_projection(const KeyFrame& kf, const Eigen::Isometry3d& T_cw,
   return n;
 }
 
+namespace {
+
+// The keypoint of kf that mp projects onto and matches best (ORB-SLAM2's Fuse test), or -1;
+// reads kf and mp only, so it may run without the map's update mutex.
+long best_fusion_keypoint(const KeyFrame& kf, const Eigen::Isometry3d& T_cw, const MapPoint& mp,
+                          const FuseOptions& options, std::vector<size_t>& candidates) {
+  if (mp.is_bad() || mp.index_in(kf.id()) >= 0) return -1;
+  const FrameFeatures& f = kf.features();
+  Projection p;
+  if (!project(kf, T_cw, mp, p)) return -1;
+  kf.features_in_area(static_cast<float>(p.u), static_cast<float>(p.v), static_cast<float>(options.th * p.radius_scale),
+                      -1, -1, candidates);
+  const Descriptor d = mp.descriptor();
+  int best = std::numeric_limits<int>::max();
+  long best_idx = -1;
+  for (size_t idx : candidates) {
+    const cv::KeyPoint& kp = f.keys_un[idx];
+    if (kp.octave < p.level - 1 || kp.octave > p.level) continue;
+    if (options.check_reprojection) {
+      const double ex = p.u - kp.pt.x, ey = p.v - kp.pt.y;
+      const double inv_s2 = f.pyramid->inv_level_sigma2[kp.octave];
+      if (f.right_x[idx] >= 0) {
+        const double er = p.u_right - f.right_x[idx];
+        if ((ex * ex + ey * ey + er * er) * inv_s2 > kChi2Stereo) continue;
+      } else if ((ex * ex + ey * ey) * inv_s2 > kChi2Mono) {
+        continue;
+      }
+    }
+    const int dist = descriptor_distance(d.data(), f.descriptor(idx));
+    if (dist < best) {
+      best = dist;
+      best_idx = static_cast<long>(idx);
+    }
+  }
+  return best_idx >= 0 && best <= OrbMatcher::kThLow ? best_idx : -1;
+}
+
+// Fuses mp with keypoint idx of kf on the map as it is now: nothing when mp went bad or is
+// already in kf, else merged with the keypoint's point or added as its observation.
+bool apply_fusion(Map& map, const std::shared_ptr<KeyFrame>& kf, const std::shared_ptr<MapPoint>& mp, size_t idx,
+                  const FuseOptions& options) {
+  if (mp->is_bad() || mp->index_in(kf->id()) >= 0) return false;
+  const uint32_t existing_id = kf->map_point_id(idx);
+  const auto existing = existing_id == kNoId ? nullptr : map.map_point(existing_id);
+  if (existing && !existing->is_bad()) {
+    if (existing == mp) return false;
+    if (options.projected_wins || mp->num_observations() >= existing->num_observations())
+      replace_map_point(map, existing, mp);
+    else
+      replace_map_point(map, mp, existing);
+  } else {
+    add_observation(kf, idx, mp);
+  }
+  return true;
+}
+
+}  // namespace
+
 int fuse(Map& map, const std::shared_ptr<KeyFrame>& kf, const Eigen::Isometry3d& T_cw,
          const std::vector<std::shared_ptr<MapPoint>>& points, const FuseOptions& options) {
-  const FrameFeatures& f = kf->features();
   int n = 0;
   std::vector<size_t> candidates;
   for (const auto& mp : points) {
-    if (!mp || mp->is_bad() || mp->index_in(kf->id()) >= 0) continue;
-    Projection p;
-    if (!project(*kf, T_cw, *mp, p)) continue;
-    kf->features_in_area(static_cast<float>(p.u), static_cast<float>(p.v), static_cast<float>(options.th * p.radius_scale),
-                         -1, -1, candidates);
-    const Descriptor d = mp->descriptor();
-    int best = std::numeric_limits<int>::max();
-    long best_idx = -1;
-    for (size_t idx : candidates) {
-      const cv::KeyPoint& kp = f.keys_un[idx];
-      if (kp.octave < p.level - 1 || kp.octave > p.level) continue;
-      if (options.check_reprojection) {
-        const double ex = p.u - kp.pt.x, ey = p.v - kp.pt.y;
-        const double inv_s2 = f.pyramid->inv_level_sigma2[kp.octave];
-        if (f.right_x[idx] >= 0) {
-          const double er = p.u_right - f.right_x[idx];
-          if ((ex * ex + ey * ey + er * er) * inv_s2 > kChi2Stereo) continue;
-        } else if ((ex * ex + ey * ey) * inv_s2 > kChi2Mono) {
-          continue;
-        }
-      }
-      const int dist = descriptor_distance(d.data(), f.descriptor(idx));
-      if (dist < best) {
-        best = dist;
-        best_idx = static_cast<long>(idx);
-      }
-    }
-    if (best_idx < 0 || best > OrbMatcher::kThLow) continue;
-    const uint32_t existing_id = kf->map_point_id(best_idx);
-    const auto existing = existing_id == kNoId ? nullptr : map.map_point(existing_id);
-    if (existing && !existing->is_bad()) {
-      if (existing == mp) continue;
-      if (options.projected_wins || mp->num_observations() >= existing->num_observations())
-        replace_map_point(map, existing, mp);
-      else
-        replace_map_point(map, mp, existing);
-    } else {
-      add_observation(kf, static_cast<size_t>(best_idx), mp);
-    }
-    ++n;
+    if (!mp) continue;
+    const long idx = best_fusion_keypoint(*kf, T_cw, *mp, options, candidates);
+    if (idx >= 0 && apply_fusion(map, kf, mp, static_cast<size_t>(idx), options)) ++n;
   }
+  return n;
+}
+
+FusionMatches find_fusion_matches(const std::shared_ptr<KeyFrame>& kf, const Eigen::Isometry3d& T_cw,
+                                  const std::vector<std::shared_ptr<MapPoint>>& points, const FuseOptions& options) {
+  FusionMatches matches;
+  matches.kf = kf;
+  std::vector<size_t> candidates;
+  for (const auto& mp : points) {
+    if (!mp) continue;
+    const long idx = best_fusion_keypoint(*kf, T_cw, *mp, options, candidates);
+    if (idx >= 0) matches.pairs.emplace_back(mp, static_cast<size_t>(idx));
+  }
+  return matches;
+}
+
+int apply_fusion_matches(Map& map, const FusionMatches& matches, const FuseOptions& options) {
+  int n = 0;
+  if (!matches.kf || matches.kf->is_bad()) return 0;
+  for (const auto& [mp, idx] : matches.pairs)
+    if (apply_fusion(map, matches.kf, mp, idx, options)) ++n;
   return n;
 }
 

@@ -163,26 +163,50 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
   }
   Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
   LoopCorrectionReport report;
-  double locked_ms = 0;  // how long the other robots' mapping and KeyFrame arrivals wait on the map lock
+  double locked_ms = 0;   // under the map lock, which the other robots' mapping and KeyFrame arrivals wait on
+  double longest_ms = 0;  // ... the longest of its holds: what they wait at most
+  double move_ms = 0;     // of which moving the merged map into the other's coordinates
   {
-    std::lock_guard<std::mutex> lock(map_->update_mutex());
-    const Stopwatch locked;
+    std::unique_lock<std::mutex> lock(map_->update_mutex());
+    Stopwatch held;
+    const auto hold_ended = [&] {
+      const double ms = held.ms();
+      locked_ms += ms;
+      longest_ms = std::max(longest_ms, ms);
+    };
     if (on_map_moved) on_map_moved();
     if (merge) {
       // T_cw_corrected is the current camera seen from the loop side.
       const Eigen::Isometry3d T_loop_current = match.T_cw_corrected.inverse() * kf->T_cw();
       T_into_from = from == current_group ? T_loop_current : T_loop_current.inverse();
+      const Stopwatch moving;
       move_group(from, T_into_from);
+      move_ms = moving.ms();
       if (from == loop_group) match.T_cw_corrected = kf->T_cw();  // the loop side came to it
       if (on_merge) on_merge(from, into, T_into_from);
     }
     // After a merge every KeyFrame of `from` reports `into`.
     const int corrected_map = merge ? into : current_group;
     std::function<bool(uint32_t)> in_map;
-    if (group_of) in_map = [this, corrected_map](uint32_t id) { return group_of(id) == corrected_map; };
-    report = correct_loop(*map_, kf, match, params_.correction, in_map);
+    std::function<void(const std::function<void()>&)> without_lock;
+    if (group_of) {
+      in_map = [this, corrected_map](uint32_t id) { return group_of(id) == corrected_map; };
+      // Several robots: the fusion's search (the longest step, up to ~70 ms on fr1) runs with the
+      // lock released, so the other robots' mapping and arrivals go on; the maps corrected stay
+      // paused. The map is then moved but not yet fused: each robot's frame follows it already.
+      // One robot keeps ORB-SLAM2's single hold (a monolithic tracker waits on the same lock).
+      without_lock = [&](const std::function<void()>& work) {
+        if (on_map_moved) on_map_moved();
+        hold_ended();
+        lock.unlock();
+        work();
+        lock.lock();
+        held = Stopwatch();
+      };
+    }
+    report = correct_loop(*map_, kf, match, params_.correction, in_map, without_lock);
     if (on_map_moved) on_map_moved();
-    locked_ms = locked.ms();
+    hold_ended();
   }
   if (local_mapping_) local_mapping_->release(maps);
   if (report.group_keyframes == 0 && !merge) {
@@ -197,7 +221,10 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       match.loop_kf->id(), ", ", match.num_matches, " matches (", report.group_keyframes, " KFs corrected, ",
       report.fused_points, " points fused, ", report.new_loop_links, " new links, ", report.message, ", cost ",
       report.graph_initial_cost, " -> ", report.graph_final_cost, "; current KF moved ", report.current_shift_m * 100, " cm ",
-      report.current_shift_deg, " deg; ", report.group_on_loop_side, " of its group on the loop side)"));
+      report.current_shift_deg, " deg; ", report.group_on_loop_side, " of its group on the loop side; map locked ",
+      locked_ms, " ms, at most ", longest_ms, " at a time: move ", move_ms, ", group ", report.group_ms, ", fusion ",
+      report.fuse_ms, " (+ search ", report.fuse_search_ms, (group_of ? " unlocked" : ""), "), links ",
+      report.links_ms, ", graph ", report.graph_ms, ", points follow ", report.follow_ms, ")"));
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     if (merge)
@@ -206,6 +233,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       loops_.push_back(LoopEvent{kf->id(), match.loop_kf->id(), match.num_matches, report});
     correct_ms_.push_back(t1.ms());
     correct_locked_ms_.push_back(locked_ms);
+    correct_longest_lock_ms_.push_back(longest_ms);
   }
   start_full_ba(kf->id(), merge ? into : current_group);
   return true;
@@ -315,6 +343,10 @@ std::vector<double> LoopClosing::correction_times_ms() const {
 std::vector<double> LoopClosing::correction_locked_times_ms() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   return correct_locked_ms_;
+}
+std::vector<double> LoopClosing::correction_longest_lock_times_ms() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return correct_longest_lock_ms_;
 }
 std::vector<double> LoopClosing::full_ba_times_ms() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);

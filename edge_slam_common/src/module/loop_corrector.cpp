@@ -4,6 +4,7 @@
 #include <map>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "edge_slam/data/map_edit.h"
 #include "edge_slam/match/keyframe_search.h"
@@ -57,7 +58,8 @@ std::vector<PoseGraphEdge> essential_edges(const Map& map, const std::vector<std
 
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
                                   const LoopCorrectionParams& params,
-                                  const std::function<bool(uint32_t kf_id)>& in_map) {
+                                  const std::function<bool(uint32_t kf_id)>& in_map,
+                                  const std::function<void(const std::function<void()>&)>& without_lock) {
   const Stopwatch t0;
   LoopCorrectionReport report;
   if (kf->is_bad() || !loop.loop_kf || loop.loop_kf->is_bad()) {
@@ -99,7 +101,29 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   for (const auto& [mp_id, kf_id] : corrected_by)
     if (auto mp = map.map_point(mp_id)) mp->update_normal_and_depth(map);
 
+  report.group_ms = t0.ms();
+
   // 3. Loop fusion: the verified matches, then the loop group's points into the whole group.
+  // The search reads only this map's KeyFrames and points, which nothing else writes while its
+  // mapping is paused, so it runs without the map lock when the caller lets it: the other
+  // robots' mapping and KeyFrame arrivals go on meanwhile. The matches are applied under the
+  // lock, each checked against the map as it is then.
+  FuseOptions fuse_options;
+  fuse_options.th = params.fuse_window;
+  fuse_options.projected_wins = true;
+  fuse_options.check_reprojection = false;
+  std::vector<FusionMatches> fusion;
+  const auto search = [&] {
+    const Stopwatch t_search;
+    for (const auto& g : group)
+      if (!g->is_bad()) fusion.push_back(find_fusion_matches(g, g->T_cw(), loop.loop_points, fuse_options));
+    report.fuse_search_ms = t_search.ms();
+  };
+  if (without_lock)
+    without_lock(search);
+  else
+    search();
+  const Stopwatch t_fuse;
   for (size_t i = 0; i < loop.matched.size(); ++i) {
     const auto& loop_mp = loop.matched[i];
     if (!loop_mp || loop_mp->is_bad()) continue;
@@ -113,13 +137,10 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     }
     ++report.fused_points;
   }
-  FuseOptions fuse_options;
-  fuse_options.th = params.fuse_window;
-  fuse_options.projected_wins = true;
-  fuse_options.check_reprojection = false;
-  for (const auto& g : group)
-    if (!g->is_bad()) report.fused_points += fuse(map, g, g->T_cw(), loop.loop_points, fuse_options);
+  for (const auto& m : fusion) report.fused_points += apply_fusion_matches(map, m, fuse_options);
+  report.fuse_ms = t_fuse.ms();
 
+  const Stopwatch t_links;
   // 4. New links created by the fusion (not within the group, not old neighbours).
   std::set<uint32_t> group_ids;
   for (const auto& g : group) group_ids.insert(g->id());
@@ -137,6 +158,7 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   }
   loop_links[kf->id()].insert(loop.loop_kf->id());
 
+  report.links_ms = t_links.ms();
   // 5. Essential graph over the map's keyframes, loop keyframe fixed.
   std::vector<std::shared_ptr<KeyFrame>> kfs;
   for (auto& k : map.keyframes())
@@ -163,28 +185,41 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   report.graph_ms = t_graph.ms();
   report.graph_initial_cost = graph.initial_cost;
   report.graph_final_cost = graph.final_cost;
+  const Stopwatch t_follow;
   if (graph.ok) {
     PoseById after;
     for (const auto& v : graph.vertices) after[v.id] = v.T_cw;
     for (const auto& k : kfs) k->set_pose(after[k->id()]);
-    // 6. Points follow their correcting (else reference, else any observing) keyframe.
-    for (const auto& mp : map.map_points()) {
-      if (mp->is_bad()) continue;
-      uint32_t ref = kNoId;
-      const auto cb = corrected_by.find(mp->id());
-      if (cb != corrected_by.end() && after.count(cb->second)) ref = cb->second;
-      if (ref == kNoId && after.count(mp->reference_kf_id())) ref = mp->reference_kf_id();
-      if (ref == kNoId)
-        for (const auto& [obs_kf, idx] : mp->observations())
-          if (after.count(obs_kf)) {
-            ref = obs_kf;
-            break;
-          }
-      if (ref == kNoId) continue;
-      mp->set_position(after[ref].inverse() * (before_graph[ref] * mp->position()));
-      mp->update_normal_and_depth(map);
+    // 6. Points follow their correcting (else reference, else any observing) keyframe. Only
+    // this map's points (those its KeyFrames see) can have one: the other maps' points are not
+    // visited. A keyframe the graph left where it was (after a merge the graph starts at its
+    // optimum) moves nothing; every point of the map gets its normal and depth range again.
+    std::unordered_set<uint32_t> moved;
+    for (const auto& k : kfs)
+      if (after[k->id()].matrix() != before_graph[k->id()].matrix()) moved.insert(k->id());
+    std::unordered_set<uint32_t> seen;
+    for (const auto& k : kfs) {
+      for (uint32_t id : k->map_point_ids()) {
+        if (id == kNoId || !seen.insert(id).second) continue;
+        const auto mp = map.map_point(id);
+        if (!mp || mp->is_bad()) continue;
+        uint32_t ref = kNoId;
+        const auto cb = corrected_by.find(mp->id());
+        if (cb != corrected_by.end() && after.count(cb->second)) ref = cb->second;
+        if (ref == kNoId && after.count(mp->reference_kf_id())) ref = mp->reference_kf_id();
+        if (ref == kNoId)
+          for (const auto& [obs_kf, idx] : mp->observations())
+            if (after.count(obs_kf)) {
+              ref = obs_kf;
+              break;
+            }
+        if (ref == kNoId) continue;
+        if (moved.count(ref)) mp->set_position(after[ref].inverse() * (before_graph[ref] * mp->position()));
+        mp->update_normal_and_depth(map);
+      }
     }
   }
+  report.follow_ms = t_follow.ms();
   kf->add_loop_edge(loop.loop_kf->id());
   loop.loop_kf->add_loop_edge(kf->id());
   report.group_keyframes = static_cast<int>(group.size());

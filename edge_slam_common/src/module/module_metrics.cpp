@@ -17,6 +17,7 @@ ModuleFigures collect_module_figures(const LocalMapping* mapping, const LoopClos
     f.loop_detection_ms = loop->detection_times_ms();
     f.loop_correction_ms = loop->correction_times_ms();
     f.loop_correction_locked_ms = loop->correction_locked_times_ms();
+    f.loop_correction_longest_lock_ms = loop->correction_longest_lock_times_ms();
     f.full_ba_ms = loop->full_ba_times_ms();
     f.full_ba_runs = loop->full_ba_runs();
     f.loops_closed = loop->loops_closed();
@@ -53,6 +54,7 @@ void add_module_figures(MetricsJson& m, const ModuleFigures& f) {
     m.timing("loop_detection_ms", f.loop_detection_ms)
         .timing("loop_correction_ms", f.loop_correction_ms)
         .timing("loop_correction_locked_ms", f.loop_correction_locked_ms)
+        .timing("loop_correction_longest_lock_ms", f.loop_correction_longest_lock_ms)
         .timing("loop_correction_graph_ms", f.loop_correction_graph_ms)
         .timing("full_ba_ms", f.full_ba_ms);
     std::string loops = "[";

@@ -51,4 +51,18 @@ struct FuseOptions {
 int fuse(Map& map, const std::shared_ptr<KeyFrame>& kf, const Eigen::Isometry3d& T_cw,
          const std::vector<std::shared_ptr<MapPoint>>& points, const FuseOptions& options);
 
+// fuse() in two halves, so the search can run without the map's update mutex: the loop
+// correction finds its matches while other robots map, then applies them under the mutex.
+// find_fusion_matches reads kf and the points only (their own mutexes); apply_fusion_matches
+// applies each pair as fuse() would, to the map as it is then (a point gone bad or already in
+// kf meanwhile is skipped; the keypoint's point is read again). The caller of apply holds
+// Map::update_mutex().
+struct FusionMatches {
+  std::shared_ptr<KeyFrame> kf;
+  std::vector<std::pair<std::shared_ptr<MapPoint>, size_t>> pairs;  // point, keypoint index in kf
+};
+FusionMatches find_fusion_matches(const std::shared_ptr<KeyFrame>& kf, const Eigen::Isometry3d& T_cw,
+                                  const std::vector<std::shared_ptr<MapPoint>>& points, const FuseOptions& options);
+int apply_fusion_matches(Map& map, const FusionMatches& matches, const FuseOptions& options);
+
 }  // namespace edge_slam

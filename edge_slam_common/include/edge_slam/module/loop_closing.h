@@ -98,6 +98,9 @@ class LoopClosing {
   std::vector<double> detection_times_ms() const;   // detection + verification per keyframe
   std::vector<double> correction_times_ms() const;         // pause + correction, per loop or merge
   std::vector<double> correction_locked_times_ms() const;  // of which under the Global-Map's lock
+  // ... its longest hold: how long the other robots' mapping waits at most (with several robots
+  // the fusion's search runs unlocked between two holds)
+  std::vector<double> correction_longest_lock_times_ms() const;
   std::vector<double> full_ba_times_ms() const;
 
  private:
@@ -141,7 +144,7 @@ class LoopClosing {
   std::vector<MergeEvent> merges_;
   uint64_t merge_passes_ = 0;
   int full_ba_runs_ = 0;
-  std::vector<double> detect_ms_, correct_ms_, correct_locked_ms_, full_ba_ms_;
+  std::vector<double> detect_ms_, correct_ms_, correct_locked_ms_, correct_longest_lock_ms_, full_ba_ms_;
 };
 
 }  // namespace edge_slam

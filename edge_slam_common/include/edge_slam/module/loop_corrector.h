@@ -6,7 +6,9 @@
 // it was corrected with (else its reference keyframe). Finally the loop edge is recorded.
 // With several maps in one (several robots), only the corrected map's KeyFrames are in the graph
 // and move: the other robots' maps are left as they are.
-// The caller has paused local mapping for that map and holds Map::update_mutex().
+// The caller has paused local mapping for that map and holds Map::update_mutex(); if it passes
+// `without_lock`, the fusion's search (reads only) is handed to it to run with the mutex released
+// (see correct_loop).
 #pragma once
 #include <functional>
 #include <memory>
@@ -40,13 +42,22 @@ struct LoopCorrectionReport {
   // covisibles: moved as "current side" although they belong to the loop side.
   int group_on_loop_side = 0;
   int graph_keyframes = 0;
-  // Time spent (the caller holds the map lock throughout): the essential graph's optimisation, all.
-  double graph_ms = 0, total_ms = 0;
+  // Time spent by phase: moving the current group (steps 1-2), applying the fusion (3), finding
+  // the new links (4), the essential graph's optimisation (5), the points following their
+  // KeyFrames (6); and all of it. The caller holds the map lock throughout but for the search.
+  double group_ms = 0, fuse_ms = 0, links_ms = 0, graph_ms = 0, follow_ms = 0, total_ms = 0;
+  // The fusion's search for matches (step 3), inside total_ms; outside the lock when handed to
+  // without_lock.
+  double fuse_search_ms = 0;
 };
 
 // in_map: the KeyFrames of the map being corrected (unset: every KeyFrame).
+// without_lock(work): called once, after the group has been moved (steps 1-2), with the fusion's
+// search; it releases the caller's Map::update_mutex(), runs work, and takes the mutex again, so
+// the other robots' mapping is not held up by the search. Unset: the search runs in place.
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
                                   const LoopCorrectionParams& params = {},
-                                  const std::function<bool(uint32_t kf_id)>& in_map = {});
+                                  const std::function<bool(uint32_t kf_id)>& in_map = {},
+                                  const std::function<void(const std::function<void()>&)>& without_lock = {});
 
 }  // namespace edge_slam

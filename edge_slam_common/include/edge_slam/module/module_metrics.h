@@ -15,6 +15,7 @@ struct ModuleFigures {
   LocalMappingStats mapping;
   std::vector<double> local_mapping_ms, local_ba_ms, loop_detection_ms, loop_correction_ms, full_ba_ms;
   std::vector<double> loop_correction_locked_ms;  // the part of each correction under the map lock
+  std::vector<double> loop_correction_longest_lock_ms;  // ... its longest hold (several robots: two holds)
   std::vector<double> loop_correction_graph_ms;   // of which the essential graph
   int full_ba_runs = 0, loops_closed = 0;
   std::vector<LoopEvent> loops;
