@@ -192,13 +192,26 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     for (const auto& k : kfs) k->set_pose(after[k->id()]);
     // 6. Points follow their correcting (else reference, else any observing) keyframe. Only
     // this map's points (those its KeyFrames see) can have one: the other maps' points are not
-    // visited. A keyframe the graph left where it was (after a merge the graph starts at its
-    // optimum) moves nothing; every point of the map gets its normal and depth range again.
+    // visited. A keyframe the graph left where it was moves nothing; each point of the map gets
+    // its normal and depth range again. When the graph moved no keyframe (a merge: it starts at
+    // its optimum) only the loop side's points gained observers since step 2 refreshed the
+    // group's: only they need it.
     std::unordered_set<uint32_t> moved;
+    // The graph hands poses back through a quaternion: one it left alone differs by rounding.
+    const auto differs = [](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+      return (a.translation() - b.translation()).norm() > 1e-9 ||
+             Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() > 1e-9;
+    };
     for (const auto& k : kfs)
-      if (after[k->id()].matrix() != before_graph[k->id()].matrix()) moved.insert(k->id());
+      if (differs(after[k->id()], before_graph[k->id()])) moved.insert(k->id());
+    if (moved.empty()) {
+      for (const auto* points : {&loop.loop_points, &loop.matched})
+        for (const auto& mp : *points)
+          if (mp && !mp->is_bad()) mp->update_normal_and_depth(map);
+    }
     std::unordered_set<uint32_t> seen;
     for (const auto& k : kfs) {
+      if (moved.empty()) break;
       for (uint32_t id : k->map_point_ids()) {
         if (id == kNoId || !seen.insert(id).second) continue;
         const auto mp = map.map_point(id);
