@@ -191,11 +191,10 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
     std::function<void(const std::function<void()>&)> without_lock;
     if (group_of) {
       in_map = [this, corrected_map](uint32_t id) { return group_of(id) == corrected_map; };
-      // Several robots: the fusion's search and the essential graph's solve (up to ~70 and ~45
-      // ms on fr1 and synthetic) run with the lock released, so the other robots' mapping and
-      // arrivals go on; the maps corrected stay paused. Each robot's frame follows the map as it
-      // is when the lock is released. One robot keeps ORB-SLAM2's single hold (a monolithic
-      // tracker waits on the same lock).
+      // Several robots: the fusion's search (the longest step, up to ~70 ms on fr1) runs with the
+      // lock released, so the other robots' mapping and arrivals go on; the maps corrected stay
+      // paused. The map is then moved but not yet fused: each robot's frame follows it already.
+      // One robot keeps ORB-SLAM2's single hold (a monolithic tracker waits on the same lock).
       without_lock = [&](const std::function<void()>& work) {
         if (on_map_moved) on_map_moved();
         hold_ended();
@@ -225,7 +224,7 @@ bool LoopClosing::process_keyframe(const std::shared_ptr<KeyFrame>& kf) {
       report.current_shift_deg, " deg; ", report.group_on_loop_side, " of its group on the loop side; map locked ",
       locked_ms, " ms, at most ", longest_ms, " at a time: move ", move_ms, ", group ", report.group_ms, ", fusion ",
       report.fuse_ms, " (+ search ", report.fuse_search_ms, (group_of ? " unlocked" : ""), "), links ",
-      report.links_ms, ", graph ", report.graph_ms, (group_of ? " unlocked" : ""), ", points follow ", report.follow_ms, ")"));
+      report.links_ms, ", graph ", report.graph_ms, ", points follow ", report.follow_ms, ")"));
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     if (merge)

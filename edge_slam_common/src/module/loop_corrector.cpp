@@ -107,8 +107,7 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   // The search reads only this map's KeyFrames and points, which nothing else writes while its
   // mapping is paused, so it runs without the map lock when the caller lets it: the other
   // robots' mapping and KeyFrame arrivals go on meanwhile. The matches are applied under the
-  // lock, each checked against the map as it is then. (The same for the essential graph's
-  // solve, step 5: everything the map's readers see changes under the lock.)
+  // lock, each checked against the map as it is then.
   FuseOptions fuse_options;
   fuse_options.th = params.fuse_window;
   fuse_options.projected_wins = true;
@@ -181,17 +180,9 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
                                   params.essential_min_weight);
   report.graph_edges = static_cast<int>(problem.edges.size());
   report.graph_keyframes = static_cast<int>(problem.vertices.size());
-  // The graph is solved on its own copy of the poses: without the lock when the caller lets it.
-  PoseGraphResult graph;
-  const auto solve = [&] {
-    const Stopwatch t_graph;
-    graph = optimize_pose_graph(problem, params.pose_graph);
-    report.graph_ms = t_graph.ms();
-  };
-  if (without_lock)
-    without_lock(solve);
-  else
-    solve();
+  const Stopwatch t_graph;
+  const PoseGraphResult graph = optimize_pose_graph(problem, params.pose_graph);
+  report.graph_ms = t_graph.ms();
   report.graph_initial_cost = graph.initial_cost;
   report.graph_final_cost = graph.final_cost;
   const Stopwatch t_follow;

@@ -7,8 +7,8 @@
 // With several maps in one (several robots), only the corrected map's KeyFrames are in the graph
 // and move: the other robots' maps are left as they are.
 // The caller has paused local mapping for that map and holds Map::update_mutex(); if it passes
-// `without_lock`, the steps that only read (the fusion's search, the essential graph's solve) are
-// handed to it to run with the mutex released (see correct_loop).
+// `without_lock`, the fusion's search (reads only) is handed to it to run with the mutex released
+// (see correct_loop).
 #pragma once
 #include <functional>
 #include <memory>
@@ -44,18 +44,17 @@ struct LoopCorrectionReport {
   int graph_keyframes = 0;
   // Time spent by phase: moving the current group (steps 1-2), applying the fusion (3), finding
   // the new links (4), the essential graph's optimisation (5), the points following their
-  // KeyFrames (6); and all of it. The caller holds the map lock throughout but for without_lock.
+  // KeyFrames (6); and all of it. The caller holds the map lock throughout but for the search.
   double group_ms = 0, fuse_ms = 0, links_ms = 0, graph_ms = 0, follow_ms = 0, total_ms = 0;
   // The fusion's search for matches (step 3), inside total_ms; outside the lock when handed to
-  // without_lock (as graph_ms then is).
+  // without_lock.
   double fuse_search_ms = 0;
 };
 
 // in_map: the KeyFrames of the map being corrected (unset: every KeyFrame).
-// without_lock(work): called twice, with the fusion's search once the group has been moved (steps
-// 1-2), then with the essential graph's solve; it releases the caller's Map::update_mutex(), runs
-// work, and takes the mutex again, so the other robots' mapping is not held up by them. Unset:
-// they run in place.
+// without_lock(work): called once, after the group has been moved (steps 1-2), with the fusion's
+// search; it releases the caller's Map::update_mutex(), runs work, and takes the mutex again, so
+// the other robots' mapping is not held up by the search. Unset: the search runs in place.
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
                                   const LoopCorrectionParams& params = {},
                                   const std::function<bool(uint32_t kf_id)>& in_map = {},
