@@ -289,7 +289,6 @@ TEST(LoopClosing, WithSeveralRobotsTheFusionSearchRunsBetweenTwoHoldsOfTheMapLoc
     ASSERT_EQ(loop.loops_closed(), 1);
     const LoopCorrectionReport& r = loop.loops()[0].correction;
     EXPECT_GT(r.fused_points, 100);
-    EXPECT_GT(r.fuse_search_ms, 0.0);
     ASSERT_EQ(loop.correction_locked_times_ms().size(), 1u);
     ASSERT_EQ(loop.correction_longest_lock_times_ms().size(), 1u);
     const double locked = loop.correction_locked_times_ms()[0], longest = loop.correction_longest_lock_times_ms()[0];
@@ -299,12 +298,14 @@ TEST(LoopClosing, WithSeveralRobotsTheFusionSearchRunsBetweenTwoHoldsOfTheMapLoc
       EXPECT_TRUE(calls[1].closing_kf_moved);
       EXPECT_EQ(calls[1].weight_to_first_kfs, 0) << "fused before the search had run";
       EXPECT_GT(calls[2].weight_to_first_kfs, 15);
+      EXPECT_GT(r.fuse_search_ms, 0.0);
       EXPECT_LT(longest, locked);
       EXPECT_LE(locked + r.fuse_search_ms, loop.correction_times_ms()[0] + 1e-6);
     } else {
       ASSERT_EQ(calls.size(), 2u);
       EXPECT_GT(calls[1].weight_to_first_kfs, 15);
       EXPECT_DOUBLE_EQ(longest, locked);
+      EXPECT_EQ(r.fuse_search_ms, 0.0);  // searched and fused KeyFrame by KeyFrame, as fuse()
     }
   }
 }

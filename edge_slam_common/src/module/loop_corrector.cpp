@@ -107,22 +107,21 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
   // The search reads only this map's KeyFrames and points, which nothing else writes while its
   // mapping is paused, so it runs without the map lock when the caller lets it: the other
   // robots' mapping and KeyFrame arrivals go on meanwhile. The matches are applied under the
-  // lock, each checked against the map as it is then.
+  // lock, each checked against the map as it is then. Without it (one robot) each KeyFrame's
+  // search and fusion run in turn, as ORB-SLAM2's SearchAndFuse.
   FuseOptions fuse_options;
   fuse_options.th = params.fuse_window;
   fuse_options.projected_wins = true;
   fuse_options.check_reprojection = false;
   std::vector<FusionMatches> fusion;
-  const auto search = [&] {
-    const Stopwatch t_search;
-    for (const auto& g : group)
-      if (!g->is_bad()) fusion.push_back(find_fusion_matches(g, g->T_cw(), loop.loop_points, fuse_options));
-    report.fuse_search_ms = t_search.ms();
-  };
-  if (without_lock)
-    without_lock(search);
-  else
-    search();
+  if (without_lock) {
+    without_lock([&] {
+      const Stopwatch t_search;
+      for (const auto& g : group)
+        if (!g->is_bad()) fusion.push_back(find_fusion_matches(g, g->T_cw(), loop.loop_points, fuse_options));
+      report.fuse_search_ms = t_search.ms();
+    });
+  }
   const Stopwatch t_fuse;
   for (size_t i = 0; i < loop.matched.size(); ++i) {
     const auto& loop_mp = loop.matched[i];
@@ -137,7 +136,12 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     }
     ++report.fused_points;
   }
-  for (const auto& m : fusion) report.fused_points += apply_fusion_matches(map, m, fuse_options);
+  if (without_lock) {
+    for (const auto& m : fusion) report.fused_points += apply_fusion_matches(map, m, fuse_options);
+  } else {
+    for (const auto& g : group)
+      if (!g->is_bad()) report.fused_points += fuse(map, g, g->T_cw(), loop.loop_points, fuse_options);
+  }
   report.fuse_ms = t_fuse.ms();
 
   const Stopwatch t_links;

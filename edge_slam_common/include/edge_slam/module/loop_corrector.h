@@ -46,15 +46,16 @@ struct LoopCorrectionReport {
   // the new links (4), the essential graph's optimisation (5), the points following their
   // KeyFrames (6); and all of it. The caller holds the map lock throughout but for the search.
   double group_ms = 0, fuse_ms = 0, links_ms = 0, graph_ms = 0, follow_ms = 0, total_ms = 0;
-  // The fusion's search for matches (step 3), inside total_ms; outside the lock when handed to
-  // without_lock.
+  // The fusion's search for matches (step 3) when handed to without_lock (outside the lock,
+  // inside total_ms); 0 otherwise (inside fuse_ms).
   double fuse_search_ms = 0;
 };
 
 // in_map: the KeyFrames of the map being corrected (unset: every KeyFrame).
 // without_lock(work): called once, after the group has been moved (steps 1-2), with the fusion's
 // search; it releases the caller's Map::update_mutex(), runs work, and takes the mutex again, so
-// the other robots' mapping is not held up by the search. Unset: the search runs in place.
+// the other robots' mapping is not held up by the search. Unset: each group KeyFrame's search
+// and fusion run in turn (fuse()), as before and as ORB-SLAM2 (fuse_search_ms then stays 0).
 LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& loop,
                                   const LoopCorrectionParams& params = {},
                                   const std::function<bool(uint32_t kf_id)>& in_map = {},
