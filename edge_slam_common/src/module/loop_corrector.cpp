@@ -212,28 +212,27 @@ LoopCorrectionReport correct_loop(Map& map, const std::shared_ptr<KeyFrame>& kf,
       for (const auto* points : {&loop.loop_points, &loop.matched})
         for (const auto& mp : *points)
           if (mp && !mp->is_bad()) mp->update_normal_and_depth(map);
-    }
-    std::unordered_set<uint32_t> seen;
-    for (const auto& k : kfs) {
-      if (moved.empty()) break;
-      for (uint32_t id : k->map_point_ids()) {
-        if (id == kNoId || !seen.insert(id).second) continue;
-        const auto mp = map.map_point(id);
-        if (!mp || mp->is_bad()) continue;
-        uint32_t ref = kNoId;
-        const auto cb = corrected_by.find(mp->id());
-        if (cb != corrected_by.end() && after.count(cb->second)) ref = cb->second;
-        if (ref == kNoId && after.count(mp->reference_kf_id())) ref = mp->reference_kf_id();
-        if (ref == kNoId)
-          for (const auto& [obs_kf, idx] : mp->observations())
-            if (after.count(obs_kf)) {
-              ref = obs_kf;
-              break;
-            }
-        if (ref == kNoId) continue;
-        if (moved.count(ref)) mp->set_position(after[ref].inverse() * (before_graph[ref] * mp->position()));
-        mp->update_normal_and_depth(map);
-      }
+    } else {
+      std::unordered_set<uint32_t> seen;
+      for (const auto& k : kfs)
+        for (uint32_t id : k->map_point_ids()) {
+          if (id == kNoId || !seen.insert(id).second) continue;
+          const auto mp = map.map_point(id);
+          if (!mp || mp->is_bad()) continue;
+          uint32_t ref = kNoId;
+          const auto cb = corrected_by.find(mp->id());
+          if (cb != corrected_by.end() && after.count(cb->second)) ref = cb->second;
+          if (ref == kNoId && after.count(mp->reference_kf_id())) ref = mp->reference_kf_id();
+          if (ref == kNoId)
+            for (const auto& [obs_kf, idx] : mp->observations())
+              if (after.count(obs_kf)) {
+                ref = obs_kf;
+                break;
+              }
+          if (ref == kNoId) continue;
+          if (moved.count(ref)) mp->set_position(after[ref].inverse() * (before_graph[ref] * mp->position()));
+          mp->update_normal_and_depth(map);
+        }
     }
   }
   report.follow_ms = t_follow.ms();

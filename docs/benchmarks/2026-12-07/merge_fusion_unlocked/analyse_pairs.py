@@ -22,8 +22,7 @@ def run_figures(run):
         online=[100 * r['ate_online_rmse_m'] for r in m['robots'].values()],
         lost=sum(r['times_lost'] for r in m['robots'].values()),
         locked=[h[0] for h in holds], longest=[h[1] for h in holds],
-        beside=mapping.get('keyframes_mapped_beside_a_pause', 0), phases=phases,
-        inserted=sum(r.get('keyframes_inserted', 0) for r in e.get('robots', {}).values()) if isinstance(e.get('robots'), dict) else None)
+        beside=mapping.get('keyframes_mapped_beside_a_pause', 0), phases=phases)
 
 
 def main(folder):
