@@ -19,9 +19,13 @@ TEST(OrbKeypointFields, ConventionsHold) {
   EXPECT_EQ(descriptors.rows, static_cast<int>(keypoints.size()));
 
   int previous_octave = 0;
+  float previous_y = -1.0f;
   for (const cv::KeyPoint& kp : keypoints) {
     EXPECT_GE(kp.octave, previous_octave) << "keypoints are grouped by level, finest first";
+    // Within a level in row order: the wire codes y as steps (io/keypoint_coding.h).
+    if (kp.octave == previous_octave) EXPECT_GE(kp.pt.y, previous_y);
     previous_octave = kp.octave;
+    previous_y = kp.pt.y;
     const float scale = extractor.scale_factors()[kp.octave];
     EXPECT_FLOAT_EQ(kp.size, kOrbPatchSize * scale);
     EXPECT_GE(kp.angle, 0.0f);

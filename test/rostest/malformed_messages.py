@@ -25,16 +25,53 @@ def _random_bytes(rng, n):
     return rng.getrandbits(8 * n).to_bytes(n, 'little')
 
 
+def keypoint_block(kps):
+    """A valid keypoint block (edge_slam/io/keypoint_coding.h) for (x, y, octave, angle, depth)
+    tuples, in its plainest form: Rice parameter 16 (a y step is a zero, or a one and a zero,
+    then 16 bits), x and depth in 16 bits. The receiver takes any valid block, not only the
+    compact ones the C++ encoder writes; this one is only for the test's messages."""
+    x_min = min((k[0] for k in kps), default=0)
+    runs = []
+    for k in kps:
+        if runs and runs[-1][0] == k[2] and runs[-1][1] < 0xFFFF:
+            runs[-1][1] += 1
+        else:
+            runs.append([k[2], 1])
+    head = struct.pack('<BhBBH', 1, x_min, 16, 16, len(runs))
+    head += b''.join(struct.pack('<BHB', octave, count, 16) for octave, count in runs)
+    bits = []
+
+    def put(value, width):
+        bits.extend((value >> b) & 1 for b in range(width))
+    previous_y = 0
+    for x, y, _, angle, depth in kps:
+        step = y - previous_y
+        v = 2 * step if step >= 0 else -2 * step - 1
+        bits.extend([1] * (v >> 16) + [0])
+        put(v, 16)
+        put(x - x_min, 16)
+        put(angle, 8)
+        put(depth, 16)
+        previous_y = y
+    bits.extend([0] * (-len(bits) % 8))
+    body = bytes(sum(bits[i + b] << b for b in range(8)) for i in range(0, len(bits), 8))
+    return head + body
+
+
+# Byte offsets in a keypoint block: coding, x_bits, depth_bits, then the first run's octave,
+# count and Rice parameter.
+KP_CODING, KP_X_BITS, KP_DEPTH_BITS, KP_RUN_OCTAVE, KP_RUN_COUNT, KP_RUN_RICE = 0, 3, 4, 7, 8, 10
+
+
 def _features(msg, rng):
     msg.camera_name = 'synthetic'
     msg.intrinsics = [525.0, 525.0, 319.5, 239.5]
     msg.bf = 40.0
     msg.th_depth = 3.0
     msg.width, msg.height = 640, 480
-    msg.kp_xy = [rng.randint(0, 5000) for _ in range(2 * N_KP)]
-    msg.kp_octave = bytes(b % 8 for b in _random_bytes(rng, N_KP))
-    msg.kp_angle = _random_bytes(rng, N_KP)
-    msg.kp_depth = [rng.randint(1, 20000) for _ in range(N_KP)]
+    msg.keypoints = keypoint_block(sorted(
+        (rng.randint(0, 5000), rng.randint(0, 3800), rng.randrange(8), rng.randrange(256), rng.randint(1, 20000))
+        for _ in range(N_KP)))
     msg.descriptors = _random_bytes(rng, 32 * N_KP)
 
 
@@ -106,23 +143,42 @@ def _camera_and_features(rng):
         'bf_negative': lambda m: setattr(m, 'bf', -rng.uniform(0.1, 100)),
         'th_depth_not_finite': lambda m: setattr(m, 'th_depth', rng.choice(bad_float)),
         'camera_name_long': lambda m: setattr(m, 'camera_name', 'x' * rng.randint(257, 2000)),
-        'kp_xy_size': lambda m: setattr(m, 'kp_xy', _shorter(m.kp_xy)),
-        'kp_angle_size': lambda m: setattr(m, 'kp_angle', m.kp_angle + b'\x01'),
-        'kp_depth_size': lambda m: setattr(m, 'kp_depth', _shorter(m.kp_depth)),
+        'keypoints_truncated': lambda m: setattr(m, 'keypoints', m.keypoints[:-rng.randint(1, len(m.keypoints))]),
+        'keypoints_trailing': lambda m: setattr(m, 'keypoints', m.keypoints + bytes([rng.randint(1, 255)])),
+        'keypoint_coding': lambda m: _set_keypoint_byte(m, KP_CODING, rng.choice([0] + list(range(2, 256)))),
+        'keypoint_widths': lambda m: _set_keypoint_byte(m, rng.choice([KP_X_BITS, KP_DEPTH_BITS]), rng.randint(17, 255)),
+        'keypoint_rice': lambda m: _set_keypoint_byte(m, KP_RUN_RICE, rng.randint(17, 255)),
+        'keypoint_count': lambda m: _set_keypoint_byte(m, KP_RUN_COUNT, m.keypoints[KP_RUN_COUNT] + rng.choice([-1, 1, 100])),
         'descriptor_length': lambda m: setattr(
             m, 'descriptors', m.descriptors[:32 * N_KP - rng.randint(1, 31)] if rng.random() < 0.5
             else m.descriptors + bytes(rng.randint(1, 31))),
-        'octave_range': lambda m: setattr(m, 'kp_octave', bytes([rng.randint(32, 255)]) + m.kp_octave[1:]),
+        'descriptor_count': lambda m: setattr(m, 'descriptors', m.descriptors + bytes(32 * rng.randint(1, 3))),
+        'octave_range': lambda m: _set_keypoint_byte(m, KP_RUN_OCTAVE, rng.randint(32, 255)),
         'too_many_keypoints': _too_many_keypoints,
     }
 
 
+def _set_keypoint_byte(m, at, value):
+    block = bytearray(m.keypoints)
+    block[at] = value % 256
+    m.keypoints = bytes(block)
+
+
+def _clear_depth(m, i):
+    """Keypoint i loses its depth. In the blocks _features makes (y in 0..3800 and Rice 16: a
+    zero and 16 bits per y step; then x, angle, depth in 16, 8, 16 bits) a keypoint is 57 bits
+    and the runs table has one entry per run of equal octaves."""
+    runs = struct.unpack_from('<H', m.keypoints, 5)[0]
+    block = bytearray(m.keypoints)
+    first = 8 * (7 + 4 * runs) + 57 * i + 17 + 16 + 8
+    for b in range(first, first + 16):
+        block[b >> 3] &= ~(1 << (b & 7)) & 0xFF
+    m.keypoints = bytes(block)
+
+
 def _too_many_keypoints(m):
     n = 8001
-    m.kp_xy = [0] * (2 * n)
-    m.kp_octave = bytes(n)
-    m.kp_angle = bytes(n)
-    m.kp_depth = [0] * n
+    m.keypoints = keypoint_block([(0, 0, 0, 0, 0)] * n)
     m.descriptors = bytes(32 * n)
 
 
@@ -138,7 +194,7 @@ def _keyframe_only(rng):
     def implied_position_without_depth(m):
         # Format 4: no positions means back-project each source keypoint; this one has no depth.
         m.new_point_xyz = []
-        m.kp_depth[2] = 0
+        _clear_depth(m, 2)
 
     def seen_keypoint_as_source(m):
         # Keypoint 0 sees a point and is made the source of a new one too (counts consistent).
@@ -281,7 +337,7 @@ def first_array_offset(msg):
     if isinstance(msg, MapUpdate):
         return 1 + 1 + 8 + 4 + 8 + 8 + 8  # ... last_keyframe_seq, then keyframes[]
     head = 1 + 8 + 4 + 4 + 8 + 8 + 1 + 56 if isinstance(msg, KeyFrame) else 1 + 8 + 4 + 8 + 8
-    return head + 4 + len(msg.camera_name.encode()) + 32 + 8 + 4 + 2 + 2  # ... width, height, then kp_xy[]
+    return head + 4 + len(msg.camera_name.encode()) + 32 + 8 + 4 + 2 + 2  # ... width, height, then keypoints[]
 
 
 def raw_mutations(rng):

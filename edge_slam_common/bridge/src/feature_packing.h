@@ -1,6 +1,7 @@
-// Quantisation of camera + features into the packed arrays that KeyFrame.msg and Frame.msg
-// share (same field names, hence templates), and their validated inverse.
+// Quantisation of camera + features into the fields that KeyFrame.msg and Frame.msg share
+// (same field names, hence templates), and their validated inverse.
 #pragma once
+#include <edge_slam/io/keypoint_coding.h>
 #include <edge_slam/io/wire_records.h>
 #include <edge_slam_bridge/message_conversion.h>
 
@@ -8,12 +9,13 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 namespace edge_slam {
 namespace packing {
 
-constexpr float kPixelUnits = 8.0f;      // kp_xy: 1/8 pixel
-constexpr float kDepthUnits = 4000.0f;   // kp_depth: 1/4 mm
+constexpr float kPixelUnits = 8.0f;      // keypoint x, y: 1/8 pixel
+constexpr float kDepthUnits = 4000.0f;   // keypoint depth: 1/4 mm
 constexpr float kAngleUnits = 256.0f / 360.0f;
 
 inline int16_t quantize_pixel(float v) {
@@ -38,8 +40,24 @@ inline uint8_t quantize_angle(float deg) {
 
 inline bool finite(double v) { return std::isfinite(v); }
 
+// The keypoints as they travel: quantised (an octave above what the coding takes is clamped, as
+// the 8-bit field did before; no extractor makes one).
+inline std::vector<WireKeypoint> wire_keypoints(const FeatureRecord& f) {
+  std::vector<WireKeypoint> wire(f.keypoints.size());
+  for (size_t i = 0; i < wire.size(); ++i) {
+    const cv::KeyPoint& kp = f.keypoints[i];
+    wire[i].x = quantize_pixel(kp.pt.x);
+    wire[i].y = quantize_pixel(kp.pt.y);
+    wire[i].octave = static_cast<uint8_t>(std::clamp<int>(kp.octave, 0, kMaxWireOctave));
+    wire[i].angle = quantize_angle(kp.angle);
+    wire[i].depth = i < f.depth.size() ? quantize_depth(f.depth[i]) : 0;
+  }
+  return wire;
+}
+
+// Returns the keypoints as the receiver will read them.
 template <class Msg>
-void pack_camera_and_features(const CameraRecord& cam, const FeatureRecord& f, Msg& msg) {
+std::vector<WireKeypoint> pack_camera_and_features(const CameraRecord& cam, const FeatureRecord& f, Msg& msg) {
   msg.camera_name = cam.name;
   msg.intrinsics = {cam.fx, cam.fy, cam.cx, cam.cy};
   msg.bf = cam.bf;
@@ -47,24 +65,15 @@ void pack_camera_and_features(const CameraRecord& cam, const FeatureRecord& f, M
   msg.width = static_cast<uint16_t>(cam.width);
   msg.height = static_cast<uint16_t>(cam.height);
   const size_t n = f.keypoints.size();
-  msg.kp_xy.resize(2 * n);
-  msg.kp_octave.resize(n);
-  msg.kp_angle.resize(n);
-  msg.kp_depth.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const cv::KeyPoint& kp = f.keypoints[i];
-    msg.kp_xy[2 * i] = quantize_pixel(kp.pt.x);
-    msg.kp_xy[2 * i + 1] = quantize_pixel(kp.pt.y);
-    msg.kp_octave[i] = static_cast<uint8_t>(std::clamp(kp.octave, 0, 255));
-    msg.kp_angle[i] = quantize_angle(kp.angle);
-    msg.kp_depth[i] = i < f.depth.size() ? quantize_depth(f.depth[i]) : 0;
-  }
+  std::vector<WireKeypoint> wire = wire_keypoints(f);
+  msg.keypoints = encode_keypoints(wire);
   msg.descriptors.resize(n * 32);
   if (n > 0 && f.descriptors.rows == static_cast<int>(n) && f.descriptors.cols == 32 &&
       f.descriptors.type() == CV_8U) {
     for (size_t i = 0; i < n; ++i)
       std::memcpy(&msg.descriptors[32 * i], f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32);
   }
+  return wire;
 }
 
 template <class Msg>
@@ -83,20 +92,17 @@ DecodeStatus unpack_camera_and_features(const Msg& msg, const MessageLimits& lim
   if (msg.width == 0 || msg.height == 0 || msg.width > limits.max_image_side ||
       msg.height > limits.max_image_side)
     return DecodeStatus::failure("width/height must be in 1.." + std::to_string(limits.max_image_side));
-  const size_t n = msg.kp_octave.size();
+  if (msg.descriptors.size() % 32 != 0)
+    return DecodeStatus::failure("descriptors hold " + std::to_string(msg.descriptors.size()) +
+                                 " bytes, not 32 per keypoint");
+  const size_t n = msg.descriptors.size() / 32;
   if (n > limits.max_keypoints)
     return DecodeStatus::failure("too many keypoints: " + std::to_string(n) + " > " +
                                  std::to_string(limits.max_keypoints));
-  if (msg.kp_xy.size() != 2 * n || msg.kp_angle.size() != n || msg.kp_depth.size() != n)
-    return DecodeStatus::failure("keypoint arrays disagree: kp_xy " + std::to_string(msg.kp_xy.size()) +
-                                 " (expected 2x" + std::to_string(n) + "), kp_angle " +
-                                 std::to_string(msg.kp_angle.size()) + ", kp_depth " +
-                                 std::to_string(msg.kp_depth.size()));
-  if (msg.descriptors.size() != 32 * n)
-    return DecodeStatus::failure("descriptors hold " + std::to_string(msg.descriptors.size()) +
-                                 " bytes, expected 32 per keypoint (" + std::to_string(32 * n) + ")");
-  for (size_t i = 0; i < n; ++i)
-    if (msg.kp_octave[i] > 31) return DecodeStatus::failure("kp_octave out of range at " + std::to_string(i));
+  std::vector<WireKeypoint> wire;
+  std::string error;
+  if (!decode_keypoints(msg.keypoints.data(), msg.keypoints.size(), n, wire, error))
+    return DecodeStatus::failure(error);
 
   cam.name = msg.camera_name;
   cam.fx = msg.intrinsics[0];
@@ -111,11 +117,11 @@ DecodeStatus unpack_camera_and_features(const Msg& msg, const MessageLimits& lim
   f.depth.resize(n);
   for (size_t i = 0; i < n; ++i) {
     cv::KeyPoint& kp = f.keypoints[i];
-    kp.pt.x = dequantize_pixel(msg.kp_xy[2 * i]);
-    kp.pt.y = dequantize_pixel(msg.kp_xy[2 * i + 1]);
-    kp.octave = msg.kp_octave[i];
-    kp.angle = msg.kp_angle[i] / kAngleUnits;
-    f.depth[i] = dequantize_depth(msg.kp_depth[i]);
+    kp.pt.x = dequantize_pixel(wire[i].x);
+    kp.pt.y = dequantize_pixel(wire[i].y);
+    kp.octave = wire[i].octave;
+    kp.angle = wire[i].angle / kAngleUnits;
+    f.depth[i] = dequantize_depth(wire[i].depth);
   }
   f.descriptors.create(static_cast<int>(n), 32, CV_8U);
   if (n > 0) std::memcpy(f.descriptors.data, msg.descriptors.data(), 32 * n);

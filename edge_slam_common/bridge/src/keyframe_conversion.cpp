@@ -105,8 +105,8 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   msg.created_wall = r.created_wall;
   msg.reset = r.reset;
   msg.pose = pose_to_message(r.T_wc);
-  packing::pack_camera_and_features(r.camera, r.features, msg);
-  const size_t n = msg.kp_depth.size();
+  const std::vector<WireKeypoint> sent = packing::pack_camera_and_features(r.camera, r.features, msg);
+  const size_t n = sent.size();
   // Observations in keypoint order: the keypoints as a mask, the point ids in that order.
   std::vector<std::pair<uint32_t, uint32_t>> obs = r.observations;
   std::stable_sort(obs.begin(), obs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -147,8 +147,8 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   const bool positions_implied = std::all_of(news.begin(), news.end(), [&](const NewPointRecord* p) {
     const size_t k = p->kp_index;
     if (k >= n) return false;
-    const auto at = back_project(r.camera, r.T_wc, packing::dequantize_pixel(msg.kp_xy[2 * k]),
-                                 packing::dequantize_pixel(msg.kp_xy[2 * k + 1]), packing::dequantize_depth(msg.kp_depth[k]));
+    const auto at = back_project(r.camera, r.T_wc, packing::dequantize_pixel(sent[k].x),
+                                 packing::dequantize_pixel(sent[k].y), packing::dequantize_depth(sent[k].depth));
     return at && (p->position.cast<double>() - *at).norm() <= kNewPointPositionTolerance;
   });
   if (!positions_implied)

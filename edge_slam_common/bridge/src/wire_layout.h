@@ -4,6 +4,7 @@
 // buffer, so 16 bytes claiming 4 G elements would allocate gigabytes. The walk mirrors the
 // .msg field order; test_bridge_wire_layout pins it to the messages' MD5 sums.
 #pragma once
+#include <edge_slam/io/keypoint_coding.h>
 #include <edge_slam_bridge/message_conversion.h>
 
 #include <cstdint>
@@ -68,8 +69,7 @@ class Walker {
 // Camera + packed features, shared by KeyFrame and Frame (same fields, same order).
 inline bool walk_camera_and_features(Walker& w, const MessageLimits& l) {
   return w.array(1, l.max_camera_name, "camera_name") && w.fixed(4 * 8 + 8 + 4 + 2 + 2, "intrinsics..height") &&
-         w.array(2, 2 * l.max_keypoints, "kp_xy") && w.array(1, l.max_keypoints, "kp_octave") &&
-         w.array(1, l.max_keypoints, "kp_angle") && w.array(2, l.max_keypoints, "kp_depth") &&
+         w.array(1, max_keypoint_block_bytes(l.max_keypoints), "keypoints") &&
          w.array(1, 32 * l.max_keypoints, "descriptors");
 }
 
@@ -77,9 +77,9 @@ inline bool walk_frame(Walker& w, const MessageLimits& l) {
   return w.fixed(1 + 8 + 4 + 8 + 8, "version..created_wall") && walk_camera_and_features(w, l);
 }
 
-// Smallest serialized KeyFrame: fixed fields plus 4-byte length prefixes of its 15 arrays/strings.
+// Smallest serialized KeyFrame: fixed fields plus 4-byte length prefixes of its 12 arrays/strings.
 inline constexpr size_t kMinKeyFrameBytes =
-    (1 + 8 + 4 + 4 + 8 + 8 + 1 + 56) + (32 + 8 + 4 + 2 + 2) + 4 + 8 + 4 + 4 + 15 * 4;
+    (1 + 8 + 4 + 4 + 8 + 8 + 1 + 56) + (32 + 8 + 4 + 2 + 2) + 4 + 8 + 4 + 4 + 12 * 4;
 
 inline bool walk_keyframe(Walker& w, const MessageLimits& l) {
   return w.fixed(1 + 8 + 4 + 4 + 8 + 8 + 1 + 56, "version..pose") && walk_camera_and_features(w, l) &&

@@ -15,9 +15,9 @@ namespace {
 // wire_layout.h follows these definitions field by field: when a .msg file changes, its
 // MD5 changes and this test says to update the walk (then the sums here).
 TEST(CheckedDeserialization, WalkMatchesTheMessageDefinitions) {
-  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::KeyFrame>::value(), "bff4df16e7338af35a3823791d24986c");
-  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::Frame>::value(), "35291f199858711915079bcca998d144");
-  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::MapUpdate>::value(), "af4660a437048b6dc87e3c05ca439bbd");
+  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::KeyFrame>::value(), "b92483768d3e1cb557ab0bb57ebb734a");
+  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::Frame>::value(), "e344cca141c2b38a22ac444ca2671484");
+  EXPECT_STREQ(ros::message_traits::MD5Sum<edge_slam_msgs::MapUpdate>::value(), "5f39b0ac4f4247b6ea1aad72980d4f60");
 }
 
 TEST(CheckedDeserialization, ValidBytesComeBackEqual) {
@@ -54,18 +54,18 @@ TEST(CheckedDeserialization, TruncatedPaddedAndLyingBytesAreRefused) {
   DecodeStatus s = deserialize_checked(padded.data(), padded.size(), out);
   EXPECT_NE(s.error.find("trailing"), std::string::npos) << s.error;
 
-  // kp_xy's length field (after 90 fixed bytes and the camera name) claims 2^31 elements:
+  // The keypoint block's length field (after 90 fixed bytes and the camera name) claims 2^31 bytes:
   // roscpp alone would try to allocate 4 GiB here.
   std::vector<uint8_t> lying = good;
   const size_t name_length_at = 1 + 8 + 4 + 4 + 8 + 8 + 1 + 56;
   uint32_t name_length = 0;
   std::memcpy(&name_length, &lying[name_length_at], 4);
-  const size_t kp_xy_at = name_length_at + 4 + name_length + 48;
+  const size_t keypoints_at = name_length_at + 4 + name_length + 48;
   const uint32_t huge = 0x80000000u;
-  std::memcpy(&lying[kp_xy_at], &huge, 4);
+  std::memcpy(&lying[keypoints_at], &huge, 4);
   s = deserialize_checked(lying.data(), lying.size(), out);
   EXPECT_FALSE(s.ok);
-  EXPECT_NE(s.error.find("kp_xy"), std::string::npos) << s.error;
+  EXPECT_NE(s.error.find("keypoints"), std::string::npos) << s.error;
 
   const std::vector<uint8_t> update = fixtures::serialized(to_message(fixtures::map_update(2, 10, 5)));
   edge_slam_msgs::MapUpdate update_out;

@@ -1,4 +1,5 @@
 // Round trips and rejection of malformed messages for the message <-> record bridge.
+#include <edge_slam/io/keypoint_coding.h>
 #include <edge_slam/io/new_point_position.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <gtest/gtest.h>
@@ -123,7 +124,13 @@ TEST(BridgeConversion, ANewPointWithoutPositionNeedsItsKeypointsDepth) {
   ASSERT_TRUE(msg.new_point_xyz.empty());
   KeyFrameRecord out;
   ASSERT_TRUE(from_message(msg, out).ok);
-  msg.kp_depth[21] = 0;  // the keypoint lost its depth on the way
+  {  // the keypoint lost its depth on the way
+    std::vector<WireKeypoint> kps;
+    std::string error;
+    ASSERT_TRUE(decode_keypoints(msg.keypoints.data(), msg.keypoints.size(), 50, kps, error)) << error;
+    kps[21].depth = 0;
+    msg.keypoints = encode_keypoints(kps);
+  }
   const DecodeStatus s = from_message(msg, out);
   EXPECT_FALSE(s.ok);
   EXPECT_NE(s.error.find("no depth"), std::string::npos) << s.error;
@@ -229,8 +236,8 @@ TEST(BridgeConversion, RejectsMalformedKeyFrames) {
   };
   { auto m = good; m.version = 99; expect_reject(m, "version"); }
   { auto m = good; m.descriptors.pop_back(); expect_reject(m, "descriptor length"); }
-  { auto m = good; m.kp_xy.push_back(1); expect_reject(m, "kp_xy length"); }
-  { auto m = good; m.kp_depth.clear(); expect_reject(m, "kp_depth length"); }
+  { auto m = good; m.keypoints.push_back(1); expect_reject(m, "keypoint block length"); }
+  { auto m = good; m.keypoints.clear(); expect_reject(m, "no keypoint block"); }
   { auto m = good; m.pose.position.x = std::nan(""); expect_reject(m, "NaN pose"); }
   { auto m = good; m.pose.orientation.w = 5; expect_reject(m, "non-unit quaternion"); }
   { auto m = good; m.obs_kp_mask[0] ^= 0x01; expect_reject(m, "observation mask and ids disagree"); }

@@ -61,12 +61,12 @@ TEST(BridgeValidation, KeyFrameHeaderPoseAndCamera) {
 }
 
 TEST(BridgeValidation, KeyFrameFeatureArrays) {
-  kf_rejected([](KfMsg& m) { m.kp_xy.pop_back(); }, "kp_xy");
-  kf_rejected([](KfMsg& m) { m.kp_angle.push_back(0); }, "kp_angle");
-  kf_rejected([](KfMsg& m) { m.kp_depth.pop_back(); }, "kp_depth");
-  kf_rejected([](KfMsg& m) { m.kp_octave[5] = 40; }, "kp_octave");
+  kf_rejected([](KfMsg& m) { m.keypoints.pop_back(); }, "keypoints: truncated");
+  kf_rejected([](KfMsg& m) { m.keypoints.push_back(0); }, "after the last keypoint");
+  kf_rejected([](KfMsg& m) { m.keypoints.clear(); }, "header");
+  kf_rejected([](KfMsg& m) { m.keypoints[7] = 40; }, "octave 40");  // the first run's level
   kf_rejected([](KfMsg& m) { m.descriptors.pop_back(); }, "32 per keypoint");
-  kf_rejected([](KfMsg& m) { m.descriptors.resize(31 * m.kp_octave.size()); }, "32 per keypoint");
+  kf_rejected([](KfMsg& m) { m.descriptors.resize(m.descriptors.size() - 32); }, "59 keypoints");
   MessageLimits few;
   few.max_keypoints = 50;
   kf_rejected([](KfMsg&) {}, "too many keypoints", few);
@@ -121,10 +121,10 @@ TEST(BridgeValidation, FrameFields) {
   };
   rejected([](FrameMsg& m) { m.version = 0; }, "version");
   rejected([](FrameMsg& m) { m.created_wall = -INFINITY; }, "created_wall");
-  rejected([](FrameMsg& m) { m.kp_xy.clear(); }, "kp_xy");
+  rejected([](FrameMsg& m) { m.keypoints.clear(); }, "keypoints");
   rejected([](FrameMsg& m) { m.descriptors.push_back(1); }, "32 per keypoint");
   rejected([](FrameMsg& m) { m.intrinsics[0] = 0; }, "fx, fy");
-  rejected([](FrameMsg& m) { m.kp_octave[0] = 200; }, "kp_octave");
+  rejected([](FrameMsg& m) { m.keypoints[7] = 200; }, "octave 200");
   MessageLimits few;
   few.max_keypoints = 10;
   rejected([](FrameMsg&) {}, "too many keypoints", few);
@@ -139,7 +139,7 @@ TEST(BridgeValidation, MapUpdateFields) {
   rejected([](UpdateMsg& m) { m.kind = 2; }, "kind");
   rejected([](UpdateMsg& m) { m.keyframes[1].id = m.keyframes[2].id; }, "repeats");
   rejected([](UpdateMsg& m) { m.keyframes[0].parent_id = 3; }, "cycle");
-  rejected([](UpdateMsg& m) { m.keyframes[3].kp_depth.pop_back(); }, "keyframes[3]");
+  rejected([](UpdateMsg& m) { m.keyframes[3].keypoints.pop_back(); }, "keyframes[3]");
   rejected([](UpdateMsg& m) { m.points.ids[4] = m.points.ids[3]; }, "repeats");
   rejected([](UpdateMsg& m) { m.points.ids[4] = kNoId; }, "reserved");
   rejected([](UpdateMsg& m) { m.points.positions[7] = NAN; }, "non-finite");

@@ -1,6 +1,7 @@
 #include "edge_slam/feature/orb_extractor.h"
 
 #include <opencv2/imgproc.hpp>
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -64,9 +65,14 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     const cv::Rect area = fast_detection_area(image.size(), kOrbEdgeBorder);
     if (area.empty()) continue;
 
-    const std::vector<cv::KeyPoint> level_keypoints =
+    std::vector<cv::KeyPoint> level_keypoints =
         distribute_quadtree(detect_fast_in_grid(image, fast), cv::Rect2f(area), features_per_level_[level]);
     if (level_keypoints.empty()) continue;
+    // In row order: a message codes each y as the difference from the previous keypoint's
+    // (io/keypoint_coding.h), ~8 bits instead of 16. Nothing else depends on the order.
+    std::sort(level_keypoints.begin(), level_keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+      return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
+    });
 
     cv::Mat& smoothed = buffers.smoothed[level];
     smooth_for_descriptor(image, smoothed);

@@ -1,0 +1,252 @@
+#include "edge_slam/io/keypoint_coding.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+namespace edge_slam {
+namespace {
+
+constexpr size_t kHeaderBytes = 1 + 2 + 1 + 1 + 2;
+constexpr size_t kRunBytes = 1 + 2 + 1;
+constexpr uint32_t kMaxRice = 16;
+constexpr uint32_t kEscapedBits = 17;  // a zigzagged difference of two int16 values
+
+// Bits, least significant first within each byte.
+class BitWriter {
+ public:
+  explicit BitWriter(std::vector<uint8_t>& out) : out_(out) {}
+  void put(uint32_t value, uint32_t bits) {
+    for (uint32_t b = 0; b < bits; ++b) put_bit((value >> b) & 1u);
+  }
+  void put_ones_then_zero(uint32_t ones) {
+    for (uint32_t i = 0; i < ones; ++i) put_bit(1);
+    put_bit(0);
+  }
+  void put_bit(uint32_t bit) {
+    if (used_ == 0) out_.push_back(0);
+    if (bit) out_.back() |= static_cast<uint8_t>(1u << used_);
+    used_ = (used_ + 1) & 7;
+  }
+
+ private:
+  std::vector<uint8_t>& out_;
+  uint32_t used_ = 0;
+};
+
+class BitReader {
+ public:
+  BitReader(const uint8_t* data, size_t size) : data_(data), bits_(size * 8) {}
+  bool get(uint32_t bits, uint32_t& value) {
+    if (bits > bits_ - at_) return false;
+    value = 0;
+    for (uint32_t b = 0; b < bits; ++b, ++at_) value |= ((data_[at_ >> 3] >> (at_ & 7)) & 1u) << b;
+    return true;
+  }
+  // Ones up to the first zero, at most `limit` of them (then no zero follows).
+  bool count_ones(uint32_t limit, uint32_t& ones) {
+    ones = 0;
+    uint32_t bit = 0;
+    while (ones < limit) {
+      if (!get(1, bit)) return false;
+      if (!bit) return true;
+      ++ones;
+    }
+    return true;
+  }
+  // The rest of the last byte is padding and must be zero.
+  bool only_zero_padding_left() const {
+    if (bits_ - at_ >= 8) return false;
+    for (size_t b = at_; b < bits_; ++b)
+      if ((data_[b >> 3] >> (b & 7)) & 1u) return false;
+    return true;
+  }
+
+ private:
+  const uint8_t* data_;
+  size_t bits_;
+  size_t at_ = 0;
+};
+
+uint32_t zigzag(int32_t d) { return d >= 0 ? static_cast<uint32_t>(d) << 1 : (static_cast<uint32_t>(-d) << 1) - 1; }
+int32_t unzigzag(uint32_t v) { return (v & 1u) ? -static_cast<int32_t>((v + 1) >> 1) : static_cast<int32_t>(v >> 1); }
+
+uint32_t rice_bits(uint32_t v, uint32_t k) {
+  const uint32_t q = v >> k;
+  return q < kRiceEscape ? q + 1 + k : kRiceEscape + kEscapedBits;
+}
+
+uint32_t bits_for(uint32_t max_value) {
+  uint32_t bits = 0;
+  while (bits < 32 && (max_value >> bits) != 0) ++bits;
+  return bits;
+}
+
+struct Run {
+  uint8_t octave;
+  size_t begin, end;
+  uint32_t k;
+};
+
+template <typename T>
+void put_le(std::vector<uint8_t>& out, T value) {
+  uint8_t b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  out.insert(out.end(), b, b + sizeof(T));
+}
+
+template <typename T>
+T get_le(const uint8_t* p) {
+  T value;
+  std::memcpy(&value, p, sizeof(T));
+  return value;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_keypoints(const std::vector<WireKeypoint>& keypoints) {
+  const size_t n = keypoints.size();
+  int16_t x_min = 0;
+  int32_t x_max = 0;
+  uint16_t depth_max = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const WireKeypoint& kp = keypoints[i];
+    if (kp.octave > kMaxWireOctave)
+      throw std::invalid_argument("encode_keypoints: octave " + std::to_string(kp.octave) + " above " +
+                                  std::to_string(kMaxWireOctave));
+    x_min = i == 0 ? kp.x : std::min(x_min, kp.x);
+    x_max = i == 0 ? kp.x : std::max<int32_t>(x_max, kp.x);
+    depth_max = std::max(depth_max, kp.depth);
+  }
+  const uint32_t x_bits = n == 0 ? 0 : bits_for(static_cast<uint32_t>(x_max - x_min));
+  const uint32_t depth_bits = bits_for(depth_max);
+
+  // Runs of one octave (a count fits 16 bits), each with the Rice parameter that codes its y
+  // differences in the fewest bits.
+  std::vector<uint32_t> v(n);
+  int32_t previous_y = 0;
+  for (size_t i = 0; i < n; ++i) {
+    v[i] = zigzag(int32_t{keypoints[i].y} - previous_y);
+    previous_y = keypoints[i].y;
+  }
+  std::vector<Run> runs;
+  for (size_t i = 0; i < n;) {
+    size_t j = i + 1;
+    while (j < n && keypoints[j].octave == keypoints[i].octave && j - i < 0xFFFF) ++j;
+    Run run{keypoints[i].octave, i, j, 0};
+    uint64_t best = UINT64_MAX;
+    for (uint32_t k = 0; k <= kMaxRice; ++k) {
+      uint64_t bits = 0;
+      for (size_t a = i; a < j; ++a) bits += rice_bits(v[a], k);
+      if (bits < best) best = bits, run.k = k;
+    }
+    runs.push_back(run);
+    i = j;
+  }
+  if (runs.size() > 0xFFFF) throw std::invalid_argument("encode_keypoints: more than 65535 octave runs");
+
+  std::vector<uint8_t> out;
+  out.reserve(kHeaderBytes + kRunBytes * runs.size() + n * 6);
+  out.push_back(kKeypointCoding);
+  put_le<int16_t>(out, x_min);
+  out.push_back(static_cast<uint8_t>(x_bits));
+  out.push_back(static_cast<uint8_t>(depth_bits));
+  put_le<uint16_t>(out, static_cast<uint16_t>(runs.size()));
+  for (const Run& run : runs) {
+    out.push_back(run.octave);
+    put_le<uint16_t>(out, static_cast<uint16_t>(run.end - run.begin));
+    out.push_back(static_cast<uint8_t>(run.k));
+  }
+  BitWriter bits(out);
+  for (const Run& run : runs) {
+    for (size_t i = run.begin; i < run.end; ++i) {
+      const WireKeypoint& kp = keypoints[i];
+      const uint32_t q = v[i] >> run.k;
+      if (q < kRiceEscape) {
+        bits.put_ones_then_zero(q);
+        bits.put(v[i], run.k);
+      } else {
+        for (uint32_t o = 0; o < kRiceEscape; ++o) bits.put_bit(1);
+        bits.put(v[i], kEscapedBits);
+      }
+      bits.put(static_cast<uint32_t>(int32_t{kp.x} - x_min), x_bits);
+      bits.put(kp.angle, 8);
+      bits.put(kp.depth, depth_bits);
+    }
+  }
+  return out;
+}
+
+bool decode_keypoints(const uint8_t* data, size_t size, size_t count, std::vector<WireKeypoint>& out,
+                      std::string& error) {
+  auto fail = [&](std::string why) {
+    error = "keypoints: " + std::move(why);
+    return false;
+  };
+  if (size < kHeaderBytes)
+    return fail(std::to_string(size) + " bytes, shorter than the " + std::to_string(kHeaderBytes) + "-byte header");
+  if (data[0] != kKeypointCoding)
+    return fail("coding " + std::to_string(data[0]) + ", expected " + std::to_string(kKeypointCoding));
+  const int16_t x_min = get_le<int16_t>(data + 1);
+  const uint32_t x_bits = data[3];
+  const uint32_t depth_bits = data[4];
+  const size_t run_count = get_le<uint16_t>(data + 5);
+  if (x_bits > 16 || depth_bits > 16)
+    return fail("x_bits " + std::to_string(x_bits) + " / depth_bits " + std::to_string(depth_bits) + ", at most 16");
+  if (run_count > count) return fail(std::to_string(run_count) + " runs for " + std::to_string(count) + " keypoints");
+  const size_t runs_end = kHeaderBytes + kRunBytes * run_count;
+  if (size < runs_end) return fail("truncated in the run table");
+  std::vector<Run> runs(run_count);
+  size_t total = 0;
+  for (size_t r = 0; r < run_count; ++r) {
+    const uint8_t* p = data + kHeaderBytes + kRunBytes * r;
+    const size_t length = get_le<uint16_t>(p + 1);
+    runs[r] = {p[0], total, total + length, p[3]};
+    if (runs[r].octave > kMaxWireOctave)
+      return fail("run " + std::to_string(r) + " has octave " + std::to_string(runs[r].octave) + ", at most " +
+                  std::to_string(kMaxWireOctave));
+    if (length == 0) return fail("run " + std::to_string(r) + " is empty");
+    if (runs[r].k > kMaxRice)
+      return fail("run " + std::to_string(r) + " has Rice parameter " + std::to_string(runs[r].k) + ", at most 16");
+    total += length;
+  }
+  if (total != count)
+    return fail("the runs hold " + std::to_string(total) + " keypoints, the descriptors " + std::to_string(count) +
+                " keypoints (32 bytes each)");
+
+  out.assign(count, WireKeypoint{});
+  BitReader bits(data + runs_end, size - runs_end);
+  int32_t previous_y = 0;
+  for (const Run& run : runs) {
+    for (size_t i = run.begin; i < run.end; ++i) {
+      WireKeypoint& kp = out[i];
+      uint32_t q = 0, v = 0, x = 0, angle = 0, depth = 0;
+      if (!bits.count_ones(kRiceEscape, q)) return fail("truncated at keypoint " + std::to_string(i));
+      const bool ok = q < kRiceEscape ? bits.get(run.k, v) : bits.get(kEscapedBits, v);
+      if (!ok) return fail("truncated at keypoint " + std::to_string(i));
+      if (q < kRiceEscape) v |= q << run.k;
+      const int32_t y = previous_y + unzigzag(v);
+      if (y < INT16_MIN || y > INT16_MAX) return fail("y out of range at keypoint " + std::to_string(i));
+      if (!bits.get(x_bits, x) || !bits.get(8, angle) || !bits.get(depth_bits, depth))
+        return fail("truncated at keypoint " + std::to_string(i));
+      if (int32_t{x_min} + static_cast<int32_t>(x) > INT16_MAX)
+        return fail("x out of range at keypoint " + std::to_string(i));
+      kp.x = static_cast<int16_t>(x_min + static_cast<int32_t>(x));
+      kp.y = static_cast<int16_t>(y);
+      kp.octave = run.octave;
+      kp.angle = static_cast<uint8_t>(angle);
+      kp.depth = static_cast<uint16_t>(depth);
+      previous_y = y;
+    }
+  }
+  if (!bits.only_zero_padding_left())
+    return fail("bytes or set bits after the last keypoint (" + std::to_string(size) + " bytes)");
+  return true;
+}
+
+size_t max_keypoint_block_bytes(size_t count) {
+  const size_t max_bits = kRiceEscape + kEscapedBits + 16 + 8 + 16;
+  return kHeaderBytes + kRunBytes * count + (count * max_bits + 7) / 8;
+}
+
+}  // namespace edge_slam
