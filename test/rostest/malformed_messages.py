@@ -40,22 +40,38 @@ def keypoint_block(kps):
     head = struct.pack('<BhBBH', 1, x_min, 16, 16, len(runs))
     head += b''.join(struct.pack('<BHB', octave, count, 16) for octave, count in runs)
     bits = []
-
-    def put(value, width):
-        bits.extend((value >> b) & 1 for b in range(width))
     previous_y = 0
     for x, y, _, angle, depth in kps:
         step = y - previous_y
         v = 2 * step if step >= 0 else -2 * step - 1
         bits.extend([1] * (v >> 16) + [0])
-        put(v, 16)
-        put(x - x_min, 16)
-        put(angle, 8)
-        put(depth, 16)
+        _put_bits(bits, v, 16)
+        _put_bits(bits, x - x_min, 16)
+        _put_bits(bits, angle, 8)
+        _put_bits(bits, depth, 16)
         previous_y = y
-    bits.extend([0] * (-len(bits) % 8))
-    body = bytes(sum(bits[i + b] << b for b in range(8)) for i in range(0, len(bits), 8))
-    return head + body
+    return head + _packed(bits)
+
+
+def point_id_block(ids):
+    """A valid packed id block (edge_slam/io/point_id_coding.h) in its plainest form: bases 0 and
+    2^31, every offset in 31 bits."""
+    bits = []
+    for i in ids:
+        high = i >= 1 << 31
+        bits.append(int(high))
+        _put_bits(bits, i - ((1 << 31) if high else 0), 31)
+    return struct.pack('<BIBIB', 1, 0, 31, 1 << 31, 31) + _packed(bits)
+
+
+def _put_bits(bits, value, width):
+    bits.extend((value >> b) & 1 for b in range(width))
+
+
+def _packed(bits):
+    """Bits, least significant first in each byte; the last byte's unused bits zero."""
+    bits = bits + [0] * (-len(bits) % 8)
+    return bytes(sum(bits[i + b] << b for b in range(8)) for i in range(0, len(bits), 8))
 
 
 # Byte offsets in a keypoint block: coding, x_bits, depth_bits, then the first run's octave,
@@ -224,6 +240,14 @@ def _keyframe_only(rng):
         'obs_size_mismatch': lambda m: m.obs_point_id.append(m.id + 50),
         'obs_reserved_point': lambda m: m.obs_point_id.__setitem__(1, NO_ID),
         'obs_duplicate_point': lambda m: m.obs_point_id.__setitem__(1, m.obs_point_id[0]),
+        # format 6: the ids bit-packed instead of listed
+        'obs_packed_and_listed': lambda m: setattr(m, 'obs_point_id_packed', point_id_block(m.obs_point_id)),
+        'obs_packed_truncated': lambda m: (setattr(m, 'obs_point_id_packed', point_id_block(m.obs_point_id)[:-rng.randint(1, 8)]),
+                                           setattr(m, 'obs_point_id', [])),
+        'obs_packed_count': lambda m: (setattr(m, 'obs_point_id_packed', point_id_block(m.obs_point_id[:1])),
+                                       setattr(m, 'obs_point_id', [])),
+        'obs_packed_coding': lambda m: (setattr(m, 'obs_point_id_packed', bytes([rng.choice([0, 2, 255])]) + point_id_block(m.obs_point_id)[1:]),
+                                        setattr(m, 'obs_point_id', [])),
         'new_point_at_seen_keypoint': seen_keypoint_as_source,
         'new_point_not_finite': lambda m: m.new_point_xyz.__setitem__(rng.randint(0, 2), rng.choice(bad_float)),
         'new_point_xyz_size': lambda m: setattr(m, 'new_point_xyz', _shorter(m.new_point_xyz)),

@@ -2,6 +2,7 @@
 #include <edge_slam_bridge/message_conversion.h>
 
 #include <edge_slam/io/new_point_position.h>
+#include <edge_slam/io/point_id_coding.h>
 #include <edge_slam/io/record_checks.h>
 #include <edge_slam_bridge/pose_conversion.h>
 #include <ros/serialization.h>
@@ -110,14 +111,24 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   // Observations in keypoint order: the keypoints as a mask, the point ids in that order.
   std::vector<std::pair<uint32_t, uint32_t>> obs = r.observations;
   std::stable_sort(obs.begin(), obs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<uint32_t> obs_keypoints;
+  std::vector<uint32_t> obs_keypoints, obs_points;
   obs_keypoints.reserve(obs.size());
-  msg.obs_point_id.reserve(obs.size());
+  obs_points.reserve(obs.size());
   for (const auto& [kp, point] : obs) {
     obs_keypoints.push_back(kp);
-    msg.obs_point_id.push_back(point);
+    obs_points.push_back(point);
   }
   msg.obs_kp_mask = keypoint_mask(obs_keypoints, n);
+  // The ids bit-packed when that is smaller (format 6: ~17 bits an id on fr1 against 32), and
+  // only when the mask names one keypoint per id: a record it cannot say keeps the list, whose
+  // length then disagrees with the mask and the receiver refuses it.
+  size_t marked = 0;
+  for (uint8_t byte : msg.obs_kp_mask) marked += static_cast<size_t>(__builtin_popcount(byte));
+  std::vector<uint8_t> packed = encode_point_ids(obs_points);
+  if (marked == obs_points.size() && packed.size() < 4 * obs_points.size())
+    msg.obs_point_id_packed = std::move(packed);
+  else
+    msg.obs_point_id = std::move(obs_points);
   // New points in keypoint order, their sources as a bit mask (format 5): a mobile KeyFrame
   // makes hundreds, and a bit per keypoint costs less than a 2-byte index per point.
   std::vector<const NewPointRecord*> news;
@@ -186,13 +197,23 @@ DecodeStatus from_message(const edge_slam_msgs::KeyFrame& msg, KeyFrameRecord& o
   std::vector<uint32_t> observed;
   s = keypoints_of_mask(msg.obs_kp_mask, n, "obs_kp_mask", observed);
   if (!s.ok) return s;
-  if (observed.size() != msg.obs_point_id.size())
+  std::vector<uint32_t> unpacked;
+  if (!msg.obs_point_id_packed.empty()) {
+    if (!msg.obs_point_id.empty())
+      return DecodeStatus::failure("observations carry both obs_point_id and obs_point_id_packed");
+    std::string error;
+    if (!decode_point_ids(msg.obs_point_id_packed.data(), msg.obs_point_id_packed.size(), observed.size(), unpacked,
+                          error))
+      return DecodeStatus::failure("obs_kp_mask marks " + std::to_string(observed.size()) + " keypoints; " + error);
+  }
+  const std::vector<uint32_t>& point_ids = msg.obs_point_id_packed.empty() ? msg.obs_point_id : unpacked;
+  if (observed.size() != point_ids.size())
     return DecodeStatus::failure("obs_kp_mask marks " + std::to_string(observed.size()) + " keypoints but obs_point_id has " +
-                                 std::to_string(msg.obs_point_id.size()) + " ids");
+                                 std::to_string(point_ids.size()) + " ids");
   r.observations.reserve(observed.size());
   for (size_t i = 0; i < observed.size(); ++i) {
-    if (msg.obs_point_id[i] == kNoId) return DecodeStatus::failure("observation of the reserved point id");
-    r.observations.emplace_back(observed[i], msg.obs_point_id[i]);
+    if (point_ids[i] == kNoId) return DecodeStatus::failure("observation of the reserved point id");
+    r.observations.emplace_back(observed[i], point_ids[i]);
   }
 
   // The new points' sources: the set bits of the mask, in keypoint order.

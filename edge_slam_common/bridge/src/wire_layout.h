@@ -77,13 +77,14 @@ inline bool walk_frame(Walker& w, const MessageLimits& l) {
   return w.fixed(1 + 8 + 4 + 8 + 8, "version..created_wall") && walk_camera_and_features(w, l);
 }
 
-// Smallest serialized KeyFrame: fixed fields plus 4-byte length prefixes of its 12 arrays/strings.
+// Smallest serialized KeyFrame: fixed fields plus 4-byte length prefixes of its 13 arrays/strings.
 inline constexpr size_t kMinKeyFrameBytes =
-    (1 + 8 + 4 + 4 + 8 + 8 + 1 + 56) + (32 + 8 + 4 + 2 + 2) + 4 + 8 + 4 + 4 + 12 * 4;
+    (1 + 8 + 4 + 4 + 8 + 8 + 1 + 56) + (32 + 8 + 4 + 2 + 2) + 4 + 8 + 4 + 4 + 13 * 4;
 
 inline bool walk_keyframe(Walker& w, const MessageLimits& l) {
   return w.fixed(1 + 8 + 4 + 4 + 8 + 8 + 1 + 56, "version..pose") && walk_camera_and_features(w, l) &&
          w.array(1, (l.max_keypoints + 7) / 8, "obs_kp_mask") && w.array(4, l.max_keypoints, "obs_point_id") &&
+         w.array(1, 11 + 4 * l.max_keypoints, "obs_point_id_packed") &&
          w.array(1, (l.max_keypoints + 7) / 8, "new_point_kp_mask") && w.fixed(4, "new_point_first_id") &&
          w.array(4, l.max_new_points, "new_point_id") && w.array(4, 3 * l.max_new_points, "new_point_xyz") && w.fixed(8, "decision counts") && w.fixed(4, "parent_id") &&
          w.array(4, l.max_covisibility, "covis_ids") && w.array(2, l.max_covisibility, "covis_weights") &&

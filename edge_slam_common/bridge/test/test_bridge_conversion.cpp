@@ -9,6 +9,8 @@
 #include <cmath>
 #include <random>
 
+#include "support/wire_fixtures.h"
+
 namespace edge_slam {
 namespace {
 
@@ -242,7 +244,7 @@ TEST(BridgeConversion, RejectsMalformedKeyFrames) {
   { auto m = good; m.pose.orientation.w = 5; expect_reject(m, "non-unit quaternion"); }
   { auto m = good; m.obs_kp_mask[0] ^= 0x01; expect_reject(m, "observation mask and ids disagree"); }
   { auto m = good; m.obs_kp_mask.pop_back(); expect_reject(m, "observation mask length"); }
-  { auto m = good; m.obs_point_id.pop_back(); expect_reject(m, "observation arrays"); }
+  { auto m = good; fixtures::list_observed_ids(m); m.obs_point_id.pop_back(); expect_reject(m, "observation arrays"); }
   { auto m = good; m.new_point_xyz.pop_back(); expect_reject(m, "new point xyz"); }
   { auto m = good; m.new_point_xyz[0] = INFINITY; expect_reject(m, "infinite new point"); }
   { auto m = good; m.intrinsics[0] = 0; expect_reject(m, "fx"); }

@@ -73,12 +73,23 @@ TEST(BridgeValidation, KeyFrameFeatureArrays) {
 }
 
 TEST(BridgeValidation, KeyFrameObservationsAndNewPoints) {
-  kf_rejected([](KfMsg& m) { m.obs_point_id.pop_back(); }, "obs_point_id has");
-  kf_rejected([](KfMsg& m) { m.obs_kp_mask[0] ^= 0x01; }, "obs_point_id has");  // a keypoint more or less
+  kf_rejected([](KfMsg& m) { fixtures::list_observed_ids(m); m.obs_point_id.pop_back(); }, "obs_point_id has");
+  kf_rejected([](KfMsg& m) { fixtures::list_observed_ids(m); m.obs_kp_mask[0] ^= 0x01; }, "obs_point_id has");  // a keypoint more or less
+  // The packed ids (format 6): a keypoint more or less in the mask, both forms, a truncated
+  // block, an id outside its class.
+  kf_rejected([](KfMsg& m) {  // one keypoint more: the block holds one id too few
+    size_t k = 0;
+    while (m.obs_kp_mask[k / 8] & (1u << (k % 8))) ++k;
+    m.obs_kp_mask[k / 8] |= static_cast<uint8_t>(1u << (k % 8));
+  }, "obs_point_id_packed");
+  kf_rejected([](KfMsg& m) { m.obs_point_id.push_back(5); }, "both obs_point_id and obs_point_id_packed");
+  kf_rejected([](KfMsg& m) { m.obs_point_id_packed.resize(8); }, "header");
+  kf_rejected([](KfMsg& m) { m.obs_point_id_packed.pop_back(); }, "truncated at id");
+  kf_rejected([](KfMsg& m) { m.obs_point_id_packed[4] = 0x80; }, "outside its class");  // low base from 2^31
   kf_rejected([](KfMsg& m) { m.obs_kp_mask.back() |= 0x80; }, "past the 60 keypoints");
   kf_rejected([](KfMsg& m) { m.obs_kp_mask.push_back(0); }, "obs_kp_mask has 9 bytes");
-  kf_rejected([](KfMsg& m) { m.obs_point_id[2] = kNoId; }, "reserved point id");
-  kf_rejected([](KfMsg& m) { m.obs_point_id[1] = m.obs_point_id[0]; }, "repeats point");
+  kf_rejected([](KfMsg& m) { fixtures::list_observed_ids(m); m.obs_point_id[2] = kNoId; }, "reserved point id");
+  kf_rejected([](KfMsg& m) { fixtures::list_observed_ids(m); m.obs_point_id[1] = m.obs_point_id[0]; }, "repeats point");
   kf_rejected([](KfMsg& m) {  // keypoint 16 sees a point and is made the source of a new one too
     m.new_point_kp_mask[2] |= 0x01;
     m.new_point_xyz.insert(m.new_point_xyz.begin(), {0.3f, 0.1f, 1.2f});
@@ -88,7 +99,7 @@ TEST(BridgeValidation, KeyFrameObservationsAndNewPoints) {
   kf_rejected([](KfMsg& m) { m.new_point_kp_mask.pop_back(); }, "new_point_kp_mask");
   kf_rejected([](KfMsg& m) { m.new_point_kp_mask.push_back(0); }, "new_point_kp_mask");
   kf_rejected([](KfMsg& m) { m.new_point_id.clear(), m.new_point_first_id = kNoId - 3; }, "reserved id");
-  kf_rejected([](KfMsg& m) { m.new_point_id.clear(), m.new_point_first_id = m.obs_point_id[0]; }, "repeats point");
+  kf_rejected([](KfMsg& m) { fixtures::list_observed_ids(m); m.new_point_id.clear(), m.new_point_first_id = m.obs_point_id[0]; }, "repeats point");
   kf_rejected([](KfMsg& m) { m.new_point_id.push_back(12345); }, "new_point arrays");
   kf_rejected([](KfMsg& m) { m.new_point_id.assign(m.new_point_xyz.size() / 3, 900), m.new_point_id[0] = kNoId; }, "reserved id");
   kf_rejected([](KfMsg& m) { m.new_point_id.assign(m.new_point_xyz.size() / 3, 900); }, "repeats point");

@@ -30,8 +30,9 @@ def main(out):
           '| update download Mbit/s | largest jump at an update cm | lost |')
     print('|' + '---|' * 10)
     for run in sorted(glob.glob(os.path.join(out, 'r*_*')), key=lambda p: (int(os.path.basename(p)[1:].split('_')[0]), p)):
-        if not os.path.isfile(os.path.join(run, 'metrics.json')):
-            continue
+        metrics = os.path.join(run, 'metrics.json')
+        if not os.path.isfile(metrics) or 'ate_rmse_m' not in json.load(open(metrics)):
+            continue  # not finished
         pair, arm = os.path.basename(run)[1:].split('_')
         r = row(run)
         arms.setdefault(arm, []).append(r)

@@ -3,10 +3,13 @@
 // observe its points and form a spanning-tree chain.
 #pragma once
 #include <edge_slam/camera/pinhole_camera.h>
+#include <edge_slam/io/point_id_coding.h>
 #include <edge_slam_bridge/message_conversion.h>
 #include <ros/serialization.h>
 
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace edge_slam {
@@ -19,6 +22,18 @@ std::vector<uint8_t> serialized(const Msg& msg) {
   ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
   ros::serialization::serialize(stream, msg);
   return out;
+}
+
+// The observed point ids as the plain list (the sender packs them when that is smaller), for
+// tests that change one id.
+inline void list_observed_ids(edge_slam_msgs::KeyFrame& m) {
+  if (m.obs_point_id_packed.empty()) return;
+  size_t marked = 0;
+  for (uint8_t byte : m.obs_kp_mask) marked += static_cast<size_t>(__builtin_popcount(byte));
+  std::string error;
+  if (!decode_point_ids(m.obs_point_id_packed.data(), m.obs_point_id_packed.size(), marked, m.obs_point_id, error))
+    throw std::logic_error("list_observed_ids: " + error);
+  m.obs_point_id_packed.clear();
 }
 
 inline CameraRecord camera() { return {"synthetic_room", 525, 525, 319.5, 239.5, 40.0, 3.05f, 640, 480}; }
