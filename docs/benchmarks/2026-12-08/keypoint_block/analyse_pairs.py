@@ -17,10 +17,12 @@ def sequence_seconds(run):
 def row(run):
     m = json.load(open(os.path.join(run, 'metrics.json')))
     seconds = sequence_seconds(run)
-    return dict(final=100 * m['ate_rmse_m'], online=100 * m['ate_online_rmse_m'], kfs=m['keyframes_created'],
-                kb=m['keyframe_bytes_sent'] / max(1, m['keyframes_sent']) / 1000,
-                up=8e-6 * m['keyframe_bytes_sent'] / seconds, down=8e-6 * m['update_bytes_received'] / seconds,
-                jump=100 * m.get('update_jump_max_m', float('nan')), lost=m['times_lost'])
+    nan = float('nan')
+    sent = m.get('keyframe_bytes_sent', nan)  # split only; a monolithic run sends nothing
+    return dict(final=100 * m['ate_rmse_m'], online=100 * m.get('ate_online_rmse_m', nan), kfs=m['keyframes_created'],
+                kb=sent / max(1, m.get('keyframes_sent', 1)) / 1000, up=8e-6 * sent / seconds,
+                down=8e-6 * m.get('update_bytes_received', nan) / seconds,
+                jump=100 * m.get('update_jump_max_m', nan), lost=m['times_lost'])
 
 
 def main(out):
@@ -37,7 +39,7 @@ def main(out):
         r = row(run)
         arms.setdefault(arm, []).append(r)
         print('| %s | %s | ' % (pair, arm) + ' | '.join(
-            ('%d' % r[k]) if k in ('kfs', 'lost') else ('%.2f' % r[k]) for k in keys) + ' |')
+            ('%d' % r[k]) if k in ('kfs', 'lost') else ('%.2f' % r[k] if r[k] == r[k] else '-') for k in keys) + ' |')
     for arm, rows in arms.items():
         print('%s (%d runs): ' % (arm, len(rows)) + ', '.join(
             '%s median %.2f worst %.2f' % (k, statistics.median(r[k] for r in rows),
