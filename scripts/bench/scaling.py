@@ -93,7 +93,8 @@ def run_scaling(out_dir, robots=(1, 2, 3), rate=0.5):
     figures = [run_one(n, out_dir, rate) for n in robots]
     with open(os.path.join(out_dir, "scaling.json"), "w") as f:
         json.dump(figures, f, indent=2)
-    plot(figures, os.path.join(out_dir, "scaling.png"))
+    # No plot here: the bench runs under Debian's python3 (rospy), which has no matplotlib; the
+    # report (venv python) draws it in scaling_section.
     return figures
 
 
@@ -155,6 +156,7 @@ def scaling_section(section, out_dir, manifest):
     for line in table(figures):
         section.line(line)
     section.line()
+    plot(figures, os.path.join(out_dir, "scaling", "scaling.png"))
     section.line("![scaling](scaling/scaling.png)")
     section.line()
     return figures
