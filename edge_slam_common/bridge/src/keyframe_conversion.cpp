@@ -21,6 +21,14 @@ namespace {
 // none when the set is empty (format 5): a KeyFrame names hundreds of its 1000 keypoints, and a
 // bit each costs less than a 2-byte index each. Indices out of range are left out (the caller's
 // counts then disagree with the mask, and the receiver refuses the message).
+// How many bits a mask sets: a list that has a repeat, or an entry the mask cannot name, sets
+// fewer bits than it has entries.
+size_t bits_set(const std::vector<uint8_t>& mask) {
+  size_t set = 0;
+  for (uint8_t b : mask) set += static_cast<size_t>(__builtin_popcount(b));
+  return set;
+}
+
 std::vector<uint8_t> keypoint_mask(const std::vector<uint32_t>& indices, size_t n) {
   std::vector<uint8_t> mask;
   if (indices.empty()) return mask;
@@ -60,9 +68,7 @@ void pack_refuted_points(const std::vector<uint32_t>& ids, edge_slam_msgs::KeyFr
   msg.refuted_mask.assign((span + 7) / 8, 0);
   for (uint32_t id : ids) msg.refuted_mask[(id - *lo) / 8] |= static_cast<uint8_t>(1u << ((id - *lo) % 8));
   // A repeated id (an invalid record) would vanish in the mask: keep the list, the receiver refuses it.
-  size_t set = 0;
-  for (uint8_t b : msg.refuted_mask) set += static_cast<size_t>(__builtin_popcount(b));
-  if (set != ids.size()) {
+  if (bits_set(msg.refuted_mask) != ids.size()) {
     msg.refuted_first_id = 0;
     msg.refuted_mask.clear();
     msg.refuted_point_ids = ids;
@@ -122,10 +128,8 @@ edge_slam_msgs::KeyFrame to_message(const KeyFrameRecord& r) {
   // The ids bit-packed when that is smaller (format 6: ~17 bits an id on fr1 against 32), and
   // only when the mask names one keypoint per id: a record it cannot say keeps the list, whose
   // length then disagrees with the mask and the receiver refuses it.
-  size_t marked = 0;
-  for (uint8_t byte : msg.obs_kp_mask) marked += static_cast<size_t>(__builtin_popcount(byte));
   std::vector<uint8_t> packed = encode_point_ids(obs_points);
-  if (marked == obs_points.size() && packed.size() < 4 * obs_points.size())
+  if (bits_set(msg.obs_kp_mask) == obs_points.size() && packed.size() < 4 * obs_points.size())
     msg.obs_point_id_packed = std::move(packed);
   else
     msg.obs_point_id = std::move(obs_points);

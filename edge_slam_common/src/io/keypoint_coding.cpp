@@ -1,9 +1,9 @@
 #include "edge_slam/io/keypoint_coding.h"
 
 #include "bit_stream.h"
+#include "byte_codec.h"
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 
 namespace edge_slam {
@@ -27,20 +27,6 @@ struct Run {
   size_t begin, end;
   uint32_t k;
 };
-
-template <typename T>
-void put_le(std::vector<uint8_t>& out, T value) {
-  uint8_t b[sizeof(T)];
-  std::memcpy(b, &value, sizeof(T));
-  out.insert(out.end(), b, b + sizeof(T));
-}
-
-template <typename T>
-T get_le(const uint8_t* p) {
-  T value;
-  std::memcpy(&value, p, sizeof(T));
-  return value;
-}
 
 }  // namespace
 
@@ -85,18 +71,18 @@ std::vector<uint8_t> encode_keypoints(const std::vector<WireKeypoint>& keypoints
   }
   if (runs.size() > 0xFFFF) throw std::invalid_argument("encode_keypoints: more than 65535 octave runs");
 
-  std::vector<uint8_t> out;
-  out.reserve(kHeaderBytes + kRunBytes * runs.size() + n * 6);
-  out.push_back(kKeypointCoding);
-  put_le<int16_t>(out, x_min);
-  out.push_back(static_cast<uint8_t>(x_bits));
-  out.push_back(static_cast<uint8_t>(depth_bits));
-  put_le<uint16_t>(out, static_cast<uint16_t>(runs.size()));
+  ByteWriter header;
+  header.put(kKeypointCoding);
+  header.put(x_min);
+  header.put(static_cast<uint8_t>(x_bits));
+  header.put(static_cast<uint8_t>(depth_bits));
+  header.put(static_cast<uint16_t>(runs.size()));
   for (const Run& run : runs) {
-    out.push_back(run.octave);
-    put_le<uint16_t>(out, static_cast<uint16_t>(run.end - run.begin));
-    out.push_back(static_cast<uint8_t>(run.k));
+    header.put(run.octave);
+    header.put(static_cast<uint16_t>(run.end - run.begin));
+    header.put(static_cast<uint8_t>(run.k));
   }
+  std::vector<uint8_t> out = std::move(header.bytes());
   BitWriter bits(out);
   for (const Run& run : runs) {
     for (size_t i = run.begin; i < run.end; ++i) {
@@ -125,12 +111,15 @@ bool decode_keypoints(const uint8_t* data, size_t size, size_t count, std::vecto
   };
   if (size < kHeaderBytes)
     return fail(std::to_string(size) + " bytes, shorter than the " + std::to_string(kHeaderBytes) + "-byte header");
-  if (data[0] != kKeypointCoding)
-    return fail("coding " + std::to_string(data[0]) + ", expected " + std::to_string(kKeypointCoding));
-  const int16_t x_min = get_le<int16_t>(data + 1);
-  const uint32_t x_bits = data[3];
-  const uint32_t depth_bits = data[4];
-  const size_t run_count = get_le<uint16_t>(data + 5);
+  // The reader never throws here: every read is within a length checked before it.
+  ByteReader header(data, size);
+  const uint8_t coding = header.get<uint8_t>("coding");
+  if (coding != kKeypointCoding)
+    return fail("coding " + std::to_string(coding) + ", expected " + std::to_string(kKeypointCoding));
+  const int16_t x_min = header.get<int16_t>("x_min");
+  const uint32_t x_bits = header.get<uint8_t>("x_bits");
+  const uint32_t depth_bits = header.get<uint8_t>("depth_bits");
+  const size_t run_count = header.get<uint16_t>("runs");
   if (x_bits > 16 || depth_bits > 16)
     return fail("x_bits " + std::to_string(x_bits) + " / depth_bits " + std::to_string(depth_bits) + ", at most 16");
   if (run_count > count) return fail(std::to_string(run_count) + " runs for " + std::to_string(count) + " keypoints");
@@ -139,9 +128,9 @@ bool decode_keypoints(const uint8_t* data, size_t size, size_t count, std::vecto
   std::vector<Run> runs(run_count);
   size_t total = 0;
   for (size_t r = 0; r < run_count; ++r) {
-    const uint8_t* p = data + kHeaderBytes + kRunBytes * r;
-    const size_t length = get_le<uint16_t>(p + 1);
-    runs[r] = {p[0], total, total + length, p[3]};
+    const uint8_t octave = header.get<uint8_t>("octave");
+    const size_t length = header.get<uint16_t>("count");
+    runs[r] = {octave, total, total + length, header.get<uint8_t>("k")};
     if (runs[r].octave > kMaxWireOctave)
       return fail("run " + std::to_string(r) + " has octave " + std::to_string(runs[r].octave) + ", at most " +
                   std::to_string(kMaxWireOctave));

@@ -1,9 +1,9 @@
 #include "edge_slam/io/point_id_coding.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include "bit_stream.h"
+#include "byte_codec.h"
 
 namespace edge_slam {
 namespace {
@@ -32,15 +32,13 @@ std::vector<uint8_t> encode_point_ids(const std::vector<uint32_t>& ids) {
   if (low_min <= low_max) low = {low_min, bits_for(low_max - low_min)};
   if (high_min <= high_max) high = {high_min, bits_for(high_max - high_min)};
 
-  std::vector<uint8_t> out;
-  out.reserve(kHeaderBytes + ids.size() * 3);
-  out.push_back(kPointIdCoding);
+  ByteWriter header;
+  header.put(kPointIdCoding);
   for (const IdClass& c : {low, high}) {
-    uint8_t b[4];
-    std::memcpy(b, &c.base, 4);
-    out.insert(out.end(), b, b + 4);
-    out.push_back(static_cast<uint8_t>(c.bits));
+    header.put(c.base);
+    header.put(static_cast<uint8_t>(c.bits));
   }
+  std::vector<uint8_t> out = std::move(header.bytes());
   BitWriter bits(out);
   for (uint32_t id : ids) {
     const bool is_high = id >= kHighPointIds;
@@ -59,12 +57,15 @@ bool decode_point_ids(const uint8_t* data, size_t size, size_t count, std::vecto
   };
   if (size < kHeaderBytes)
     return fail(std::to_string(size) + " bytes, shorter than the " + std::to_string(kHeaderBytes) + "-byte header");
-  if (data[0] != kPointIdCoding)
-    return fail("coding " + std::to_string(data[0]) + ", expected " + std::to_string(kPointIdCoding));
+  // The reader never throws here: the header's length was checked above.
+  ByteReader header(data, size);
+  const uint8_t coding = header.get<uint8_t>("coding");
+  if (coding != kPointIdCoding)
+    return fail("coding " + std::to_string(coding) + ", expected " + std::to_string(kPointIdCoding));
   IdClass classes[2];
   for (int c = 0; c < 2; ++c) {
-    std::memcpy(&classes[c].base, data + 1 + 5 * c, 4);
-    classes[c].bits = data[5 + 5 * c];
+    classes[c].base = header.get<uint32_t>("base");
+    classes[c].bits = header.get<uint8_t>("bits");
     if (classes[c].bits > 31)
       return fail("class " + std::to_string(c) + " offsets in " + std::to_string(classes[c].bits) + " bits, at most 31");
   }
